@@ -1,0 +1,1 @@
+"""The ``motoflex`` command: one module per verb, each calling the pure core directly."""

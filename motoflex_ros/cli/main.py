@@ -1,0 +1,55 @@
+"""Entry point of the ``motoflex`` command.
+
+Each verb is one module in this package exposing ``register(subparsers)``, which adds its parser
+and sets ``func`` (called with the parsed arguments, returns an exit code). User errors
+(:class:`motoflex_ros.errors.MotoflexError`) are printed as one line, without a traceback, with
+exit code 2. Ctrl-C exits with 130.
+"""
+import argparse
+import importlib
+import sys
+
+from motoflex_ros.errors import MotoflexError
+
+__all__ = ["main", "VERBS"]
+
+# verb module names, in the order --help lists them; a module that is absent is skipped
+VERBS = ("components", "identify", "eig", "study", "campaign", "replay", "bag", "rerun", "view",
+         "report")
+
+
+def build_parser():
+    parser = argparse.ArgumentParser(
+        prog="motoflex",
+        description="Virtual test rig for motorcycle chassis engineers: finite-element "
+                    "components, bench identification of lumped stiffness models "
+                    "(Passigato et al. 2023) and weave/wobble stability.")
+    subparsers = parser.add_subparsers(dest="verb", metavar="VERB")
+    subparsers.required = True
+    for verb in VERBS:
+        try:
+            module = importlib.import_module(f"motoflex_ros.cli.{verb}")
+        except ModuleNotFoundError as exc:
+            if exc.name == f"motoflex_ros.cli.{verb}":
+                continue
+            raise
+        module.register(subparsers)
+    return parser
+
+
+def main(argv=None):
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        code = args.func(args)
+    except MotoflexError as exc:
+        print(f"motoflex {args.verb}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"motoflex {args.verb}: interrupted", file=sys.stderr)
+        return 130
+    return int(code or 0)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

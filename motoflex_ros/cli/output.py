@@ -1,0 +1,56 @@
+"""Shared output helpers of the CLI verbs: JSON to stdout, tables, atomic file writes."""
+import json
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["emit_json", "to_jsonable", "atomic_write_text", "print_table"]
+
+
+def to_jsonable(obj):
+    """Convert numpy scalars/arrays and tuples recursively into JSON-ready Python objects."""
+    if isinstance(obj, dict):
+        return {str(k): to_jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [to_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return to_jsonable(obj.tolist())
+    if isinstance(obj, np.generic):
+        return obj.item()
+    return obj
+
+
+def emit_json(obj, stream=None):
+    """Print ``obj`` as JSON on stdout (the machine-readable output of ``--json``)."""
+    stream = stream or sys.stdout
+    json.dump(to_jsonable(obj), stream, indent=1, allow_nan=False)
+    stream.write("\n")
+
+
+def atomic_write_text(path, text):
+    """Write ``text`` to ``path`` through a temporary file and a rename (no half-written file)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as stream:
+            stream.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def print_table(header, rows, stream=None):
+    """Print a plain text table with columns padded to their widest cell."""
+    stream = stream or sys.stdout
+    cells = [list(map(str, header))] + [[str(c) for c in row] for row in rows]
+    widths = [max(len(r[i]) for r in cells) for i in range(len(header))]
+    for i, row in enumerate(cells):
+        stream.write("  ".join(c.rjust(w) if j else c.ljust(w)
+                               for j, (c, w) in enumerate(zip(row, widths))) + "\n")
+        if i == 0:
+            stream.write("  ".join("-" * w for w in widths) + "\n")

@@ -1,0 +1,206 @@
+"""Loading and validating the YAML configuration in ``config/``.
+
+Every file is checked against a declarative schema of :class:`Field` objects. Unknown keys,
+missing keys, wrong types, NaN and values out of range raise :class:`ConfigError` with a message
+that names the file, the dotted key and the allowed range. Numbers are SI unless the key says
+otherwise (``pitch_deg``, ``speed_kmh``).
+
+The shipped configuration lives inside the package (``motoflex_ros/config``, also reachable as
+``config/`` at the repository root) and is found with :mod:`importlib.resources`, so it works in
+a colcon install, a pip install and an editable install alike.
+"""
+import math
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+import yaml
+
+from motoflex_ros.errors import ConfigError
+
+__all__ = ["Field", "number", "positive", "angle", "validate", "load_yaml", "load_config",
+           "config_path", "resolve_config", "shipped_configs"]
+
+_INF = math.inf
+
+
+@dataclass(frozen=True)
+class Field:
+    """Schema of one configuration value.
+
+    kind: 'float', 'int', 'str', 'bool', 'vec3', 'mapping' (with ``fields``), 'list' (with
+    ``item``) or 'any'. Numeric bounds: ``low``/``high`` with ``open_low``/``open_high``
+    saying whether the bound itself is excluded. ``required=False`` uses ``default``.
+    ``extra=True`` on a mapping allows keys that are not in ``fields`` (validated by ``item``).
+    """
+
+    kind: str
+    low: float = -_INF
+    high: float = _INF
+    open_low: bool = False
+    open_high: bool = False
+    required: bool = True
+    default: object = None
+    choices: tuple = ()
+    fields: dict = field(default_factory=dict)
+    item: "Field" = None
+    extra: bool = False
+    min_items: int = 0
+    help: str = ""
+
+
+def number(low=-_INF, high=_INF, open_low=False, open_high=False, **kw):
+    """A real number in the given range."""
+    return Field("float", low, high, open_low, open_high, **kw)
+
+
+def positive(**kw):
+    """A real number > 0 (stiffness, modulus, density, length, mass...)."""
+    return Field("float", 0.0, _INF, True, False, **kw)
+
+
+def angle(low_deg=-180.0, high_deg=180.0, **kw):
+    """An angle in degrees within [low_deg, high_deg]."""
+    return Field("float", low_deg, high_deg, **kw)
+
+
+def _range_text(spec):
+    lo = "[" if not spec.open_low else "("
+    hi = "]" if not spec.open_high else ")"
+    low = "-inf" if spec.low == -_INF else f"{spec.low:g}"
+    high = "inf" if spec.high == _INF else f"{spec.high:g}"
+    if spec.low == -_INF:
+        lo = "("
+    if spec.high == _INF:
+        hi = ")"
+    return f"{lo}{low}, {high}{hi}"
+
+
+def _check_number(value, spec, source, key):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ConfigError(source, key, f"expected a number in {_range_text(spec)}, "
+                                       f"got {type(value).__name__} {value!r}")
+    value = float(value)
+    if math.isnan(value) or math.isinf(value):
+        raise ConfigError(source, key, f"expected a finite number in {_range_text(spec)}, "
+                                       f"got {value}")
+    too_low = value < spec.low or (spec.open_low and value == spec.low)
+    too_high = value > spec.high or (spec.open_high and value == spec.high)
+    if too_low or too_high:
+        raise ConfigError(source, key, f"value {value:g} is out of the allowed range "
+                                       f"{_range_text(spec)}")
+    return value
+
+
+def _check_mapping(value, spec, source, key):
+    if not isinstance(value, dict):
+        raise ConfigError(source, key or "(top level)",
+                          f"expected a mapping, got {type(value).__name__}")
+    out = {}
+    for name, sub in spec.fields.items():
+        sub_key = f"{key}.{name}" if key else name
+        if name in value:
+            out[name] = validate(value[name], sub, source, sub_key)
+        elif sub.required:
+            allowed = sub.help or sub.kind
+            raise ConfigError(source, sub_key, f"missing (required: {allowed})")
+        else:
+            out[name] = sub.default
+    for name in value:
+        if name in spec.fields:
+            continue
+        sub_key = f"{key}.{name}" if key else str(name)
+        if not spec.extra:
+            known = ", ".join(sorted(spec.fields)) or "none"
+            raise ConfigError(source, sub_key, f"unknown key (allowed keys: {known})")
+        out[name] = validate(value[name], spec.item, source, sub_key) if spec.item else value[name]
+    return out
+
+
+def _check_list(value, spec, source, key):
+    if not isinstance(value, list):
+        raise ConfigError(source, key, f"expected a list, got {type(value).__name__}")
+    if len(value) < spec.min_items:
+        raise ConfigError(source, key, f"expected at least {spec.min_items} items, "
+                                       f"got {len(value)}")
+    if spec.item is None:
+        return list(value)
+    return [validate(v, spec.item, source, f"{key}[{i}]") for i, v in enumerate(value)]
+
+
+def validate(value, spec, source, key=""):
+    """Validate ``value`` against ``spec``; return the normalised value or raise ConfigError."""
+    if spec.kind in ("float", "int"):
+        out = _check_number(value, spec, source, key)
+        if spec.kind == "int":
+            if out != int(out):
+                raise ConfigError(source, key, f"expected a whole number in {_range_text(spec)}")
+            out = int(out)
+        return out
+    if spec.kind == "str":
+        if not isinstance(value, str):
+            raise ConfigError(source, key, f"expected a string, got {type(value).__name__}")
+        if spec.choices and value not in spec.choices:
+            raise ConfigError(source, key, f"'{value}' is not one of: {', '.join(spec.choices)}")
+        return value
+    if spec.kind == "bool":
+        if not isinstance(value, bool):
+            raise ConfigError(source, key, f"expected true or false, got {value!r}")
+        return value
+    if spec.kind == "vec3":
+        if not isinstance(value, list) or len(value) != 3:
+            raise ConfigError(source, key, f"expected a list of 3 numbers [m], got {value!r}")
+        elem = Field("float", spec.low, spec.high, spec.open_low, spec.open_high)
+        return [_check_number(v, elem, source, f"{key}[{i}]") for i, v in enumerate(value)]
+    if spec.kind == "mapping":
+        return _check_mapping(value, spec, source, key)
+    if spec.kind == "list":
+        return _check_list(value, spec, source, key)
+    return value
+
+
+def load_yaml(path):
+    """Read a YAML file; a missing file or a YAML syntax error becomes a ConfigError."""
+    path = Path(path)
+    if not path.is_file():
+        raise ConfigError(path, "", "file not found")
+    try:
+        with open(path, encoding="utf-8") as stream:
+            data = yaml.safe_load(stream)
+    except yaml.YAMLError as exc:
+        raise ConfigError(path, "", f"not valid YAML: {exc}") from None
+    if data is None:
+        raise ConfigError(path, "", "the file is empty")
+    return data
+
+
+def load_config(path, spec):
+    """Load and validate a YAML file against a mapping schema."""
+    return validate(load_yaml(path), spec, Path(path))
+
+
+def config_path(kind, name):
+    """Path of a shipped configuration file, e.g. ``config_path('components', 'frame')``."""
+    root = resources.files("motoflex_ros") / "config" / kind
+    return Path(str(root / f"{name}.yaml"))
+
+
+def shipped_configs(kind):
+    """Names of the shipped configuration files of one kind (components, vehicles, protocols)."""
+    root = Path(str(resources.files("motoflex_ros") / "config" / kind))
+    return sorted(p.stem for p in root.glob("*.yaml"))
+
+
+def resolve_config(kind, name_or_file):
+    """A shipped configuration by name, or a file path given by the user."""
+    candidate = Path(name_or_file)
+    if candidate.suffix in (".yaml", ".yml") or candidate.exists():
+        if not candidate.is_file():
+            raise ConfigError(candidate, "", "file not found")
+        return candidate
+    path = config_path(kind, name_or_file)
+    if not path.is_file():
+        names = ", ".join(shipped_configs(kind)) or "none"
+        raise ConfigError(name_or_file, "", f"no shipped {kind} configuration of that name "
+                                            f"(shipped: {names}); give a .yaml path instead")
+    return path

@@ -1,0 +1,63 @@
+"""ament_python package motoflex_ros: builds with colcon and installs with plain pip."""
+from glob import glob
+
+from setuptools import find_packages, setup
+
+PACKAGE = "motoflex_ros"
+
+# Pins of the ROS 2 Jazzy PyPI wheels (see README, "Installing"). Kept out of install_requires:
+# a colcon user gets rclpy and the message packages from the ROS distribution instead.
+ROS_JAZZY_WHEELS = [
+    "ros-rclpy==7.1.6",
+    "ros-rmw-fastrtps-cpp==8.4.3",
+    "ros-std-msgs==5.3.6",
+    "ros-geometry-msgs==5.3.6",
+    "ros-sensor-msgs==5.3.6",
+    "ros-diagnostic-msgs==5.3.6",
+    "ros-visualization-msgs==5.3.6",
+    "ros-rosgraph-msgs==2.0.3",
+    "ros-builtin-interfaces==2.0.3",
+    "ros-std-srvs==5.3.6",
+    "ros-ament-index-python==1.8.1",
+]
+
+setup(
+    name=PACKAGE,
+    version="0.1.0",
+    packages=find_packages(exclude=["test", "test.*"]),
+    package_data={PACKAGE: ["config/*/*.yaml"]},
+    include_package_data=True,
+    data_files=[
+        ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
+        ("share/" + PACKAGE, ["package.xml"]),
+        ("share/" + PACKAGE + "/config/components", glob("config/components/*.yaml")),
+        ("share/" + PACKAGE + "/config/vehicles", glob("config/vehicles/*.yaml")),
+        ("share/" + PACKAGE + "/config/protocols", glob("config/protocols/*.yaml")),
+    ],
+    python_requires=">=3.10",
+    install_requires=[
+        "numpy>=1.26",
+        "scipy>=1.11",
+        "PyYAML>=6.0",
+        "statsmodels>=0.14",
+        "matplotlib>=3.8",
+        "tqdm>=4.66",
+    ],
+    extras_require={
+        "ros": ROS_JAZZY_WHEELS,
+        "record": ["mcap>=1.2", "mcap-ros2-support>=0.5", "rosbags>=0.10", "rerun-sdk>=0.41"],
+        "scale": ["dask[distributed]>=2024.1"],
+        "test": ["pytest>=8", "ruff>=0.6", "pytest-benchmark>=4"],
+    },
+    zip_safe=True,
+    maintainer="motoflex_ros developers",
+    maintainer_email="motoflex@example.invalid",
+    description="ROS 2 virtual test rig: lumped stiffness identification of motorcycle "
+    "components and their effect on weave and wobble (Passigato et al. 2023).",
+    license="Apache-2.0",
+    entry_points={
+        "console_scripts": [
+            "motoflex = motoflex_ros.cli.main:main",
+        ],
+    },
+)
