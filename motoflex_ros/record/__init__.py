@@ -1,0 +1,1 @@
+"""Recording of runs: rosbag2-compatible MCAP bags (:mod:`motoflex_ros.record.mcap_bag`)."""
