@@ -10,6 +10,7 @@ The shipped configuration lives inside the package (``motoflex_ros/config``, als
 a colcon install, a pip install and an editable install alike.
 """
 import math
+import re
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -159,6 +160,16 @@ def validate(value, spec, source, key=""):
     return value
 
 
+class _Loader(yaml.SafeLoader):
+    """Safe loader that also reads YAML 1.2 floats without a dot or exponent sign (2.1e11)."""
+
+
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
+    list("-+0123456789"))
+
+
 def load_yaml(path):
     """Read a YAML file; a missing file or a YAML syntax error becomes a ConfigError."""
     path = Path(path)
@@ -166,7 +177,7 @@ def load_yaml(path):
         raise ConfigError(path, "", "file not found")
     try:
         with open(path, encoding="utf-8") as stream:
-            data = yaml.safe_load(stream)
+            data = yaml.load(stream, Loader=_Loader)
     except yaml.YAMLError as exc:
         raise ConfigError(path, "", f"not valid YAML: {exc}") from None
     if data is None:

@@ -1,0 +1,68 @@
+"""Stiffness decomposition along the torsion and bending axes, eqs. (12a)-(12b).
+
+Passigato et al. 2023, Sect. 4.2.3 (after their ref. [24]): the stiffness k about the static
+deformation axis (angle beta, arm b) is split into k_t about the torsion axis (beta_t, b_t) and
+k_b about the bending axis (beta_b, b_b) so that
+
+    (12a)  b^2 / k = b_b^2 / k_b + b_t^2 / k_t
+    (12b)  tan(beta) = (u sin(beta_b) + w sin(beta_t)) / (u cos(beta_b) + w cos(beta_t)),
+
+with u = b_b / k_b, w = b_t / k_t [rad/(N m) * m]. (12b) is linear in (u, w):
+u sin(beta - beta_b) = w sin(beta_t - beta); with (12a), b^2/k = b_b u + b_t w, it is a 2x2
+linear system.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from motoflex_ros.errors import ModelError
+
+__all__ = ["StiffnessSplit", "decompose_stiffness", "static_stiffness_from_split"]
+
+
+@dataclass(frozen=True)
+class StiffnessSplit:
+    """k_t, k_b [N m/rad]: stiffness about the torsion and bending axes (eq. 12)."""
+
+    k_t: float
+    k_b: float
+
+
+def decompose_stiffness(k, beta, b, beta_t, b_t, beta_b, b_b):
+    """Eqs. (12a)-(12b): k_t and k_b from the static, torsion and bending axes.
+
+    Parameters
+    ----------
+    k : float
+        Stiffness about the static deformation axis [N m/rad] (eq. 8).
+    beta, b : float
+        Static axis angle to the line O-q0 [rad] and moment arm [m] (eqs. 6-7).
+    beta_t, b_t : float
+        Torsion axis angle [rad] and arm [m] (harmonic test at the first torsion frequency).
+    beta_b, b_b : float
+        Bending axis angle [rad] and arm [m] (harmonic test at the first bending frequency).
+
+    Returns
+    -------
+    StiffnessSplit
+        k_t, k_b [N m/rad].
+    """
+    a = np.array([[b_b, b_t], [np.sin(beta - beta_b), -np.sin(beta_t - beta)]])
+    rhs = np.array([b**2 / k, 0.0])
+    if abs(np.linalg.det(a)) < 1e-12 * max(abs(b_b), abs(b_t), 1e-300):
+        raise ModelError("eq. (12) is singular: the torsion and bending axes coincide")
+    u, w = np.linalg.solve(a, rhs)
+    return StiffnessSplit(k_t=float(b_t / w), k_b=float(b_b / u))
+
+
+def static_stiffness_from_split(k_t, k_b, beta_t, b_t, beta_b, b_b, b):
+    """Eqs. (12a)-(12b) forwards: static axis angle beta [rad] and k [N m/rad] of two springs.
+
+    The small rotations about the torsion and bending axes add as vectors (u along beta_b,
+    w along beta_t), which gives beta by (12b); k about that axis with arm b [m] follows from
+    (12a): k = b^2 / (b_b^2/k_b + b_t^2/k_t).
+    """
+    u, w = b_b / k_b, b_t / k_t
+    beta = float(np.mod(np.arctan2(u * np.sin(beta_b) + w * np.sin(beta_t),
+                                   u * np.cos(beta_b) + w * np.cos(beta_t)), np.pi))
+    return beta, float(b**2 / (b_b * u + b_t * w))

@@ -1,0 +1,9 @@
+"""Finite-element components: Timoshenko beams, sparse assembly, Craig-Bampton reduction.
+
+Pure numpy/scipy; the bench and the vehicle use :func:`load_component` and
+:meth:`Component.clamped_reduced` / :meth:`Component.craig_bampton`.
+"""
+from motoflex_ros.structures.clamped import ReducedComponent
+from motoflex_ros.structures.components import Component, load_component
+
+__all__ = ["Component", "ReducedComponent", "load_component"]

@@ -1,0 +1,131 @@
+"""Components described in YAML (config/components/*.yaml) as beam structures.
+
+Two formats, both validated on load with :mod:`motoflex_ros.config`:
+
+- ``component: tube``: the generic validation tube (keys ``tube``, ``material``, ``elements``);
+  it starts at the clamp O, lies in the x-z plane at ``pitch_deg`` above x, and its free end is
+  the loaded end q0.
+- any other ``component`` name: a beam structure (frame, front_assembly, swingarm) with named
+  nodes in the component frame (origin O at the clamp point named in the file, axes parallel to
+  the vehicle's), members, sections, materials, rigid links, springs, rigid parts and the
+  interface nodes (clamps, loaded end). ``placement.origin`` is O in the vehicle frame [m].
+"""
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from motoflex_ros.config import resolve_config
+from motoflex_ros.structures.assembly import Structure
+from motoflex_ros.structures.beam import Material, tube_section
+from motoflex_ros.structures.clamped import reduce_clamped
+from motoflex_ros.structures.craig_bampton import craig_bampton
+from motoflex_ros.structures.schema import load_component_config, structure_from_config
+
+__all__ = ["Component", "load_component", "tube_component"]
+
+
+@dataclass(frozen=True)
+class Component:
+    """A clamped component: its structure (unclamped; clamps are interface nodes) and names.
+
+    ``node_xyz`` (n, 3) [m] in the component frame; ``elements`` (n_e, 2) node pairs;
+    ``clamp_nodes``, ``loaded_end`` node indices; ``interface_nodes`` all boundary nodes
+    (clamps first, then the loaded end, then others); ``node_names`` name -> index of the
+    named nodes; ``origin`` O in the vehicle frame [m].
+    """
+
+    name: str
+    structure: Structure
+    clamp_nodes: tuple
+    loaded_end: int
+    interface_nodes: tuple
+    node_names: dict
+    origin: np.ndarray
+    source: str = ""
+
+    @property
+    def node_xyz(self):
+        """Node coordinates in the component frame, (n_nodes, 3) [m]."""
+        return self.structure.xyz
+
+    @property
+    def elements(self):
+        """Element connectivity, (n_elements, 2) node indices."""
+        return np.array([(e[0], e[1]) for e in self.structure.elements], int)
+
+    @property
+    def clamp_xyz(self):
+        """Clamp node positions in the component frame, (n_clamps, 3) [m]."""
+        return self.node_xyz[list(self.clamp_nodes)]
+
+    @property
+    def q0(self):
+        """Loaded end q0 in the component frame [m]."""
+        return self.node_xyz[self.loaded_end]
+
+    def interface_points(self):
+        """Named interface points in the vehicle frame [m] (origin + component-frame xyz)."""
+        by_index = {i: n for n, i in self.node_names.items()}
+        return {by_index.get(i, f"node{i}"): self.origin + self.node_xyz[i]
+                for i in self.interface_nodes}
+
+    def assembled(self):
+        """Sparse K, M of the unclamped structure (links eliminated)."""
+        return self.structure.assemble()
+
+    def craig_bampton(self, n_modes=20, f_max_hz=600.0, zeta=0.01):
+        """Craig-Bampton model with all DOFs of all interface nodes as boundary.
+
+        Returns (CraigBamptonModel, AssembledStructure).
+        """
+        asm = self.assembled()
+        boundary = np.concatenate([asm.node_dofs(n) for n in self.interface_nodes])
+        return craig_bampton(asm.K, asm.M, boundary, n_modes, f_max_hz, zeta), asm
+
+    def clamped_reduced(self, n_modes=20, f_max_hz=600.0, zeta=0.01):
+        """Clamped reduced model (clamp-node DOFs removed) for the bench: ReducedComponent.
+
+        ``zeta`` [-] is the damping ratio given to every mode of the clamped reduced model.
+        """
+        cb, asm = self.craig_bampton(n_modes, f_max_hz, zeta)
+        n_clamp = 6 * len(self.clamp_nodes)
+        keep = np.arange(n_clamp, cb.K.shape[0])
+        end_pos = 6 * list(self.interface_nodes).index(self.loaded_end) - n_clamp
+        end_dofs = end_pos + np.arange(6)
+        return reduce_clamped(self.name, cb, keep, end_dofs, self.q0, asm.expand, zeta)
+
+    def dof_count(self):
+        """Number of DOFs of the full (unclamped, links eliminated) model."""
+        return int(self.assembled().K.shape[0])
+
+
+def tube_component(length, outer_diameter, wall_thickness, pitch_deg, material, elements,
+                   name="tube"):
+    """Clamped-free tube: O at the clamp, in the x-z plane at pitch_deg above x [m, deg]."""
+    pitch = math.radians(pitch_deg)
+    direction = np.array([math.cos(pitch), 0.0, math.sin(pitch)])
+    s = Structure()
+    root = s.add_node([0.0, 0.0, 0.0])
+    tip = s.add_node(length * direction)
+    up = [0.0, 1.0, 0.0]
+    s.add_member(root, tip, int(elements), tube_section(outer_diameter, wall_thickness),
+                 material, up=up)
+    return Component(name=name, structure=s, clamp_nodes=(root,), loaded_end=tip,
+                     interface_nodes=(root, tip), node_names={"clamp": root, "free_end": tip},
+                     origin=np.zeros(3))
+
+
+def load_component(name_or_file):
+    """Load a shipped component by name ('frame', 'tube', ...) or a YAML file path."""
+    path = resolve_config("components", name_or_file)
+    cfg = load_component_config(path)
+    if cfg["component"] == "tube":
+        t, m = cfg["tube"], cfg["material"]
+        comp = tube_component(t["length"], t["outer_diameter"], t["wall_thickness"],
+                              t["pitch_deg"], Material(m["E"], m["G"], m["rho"]),
+                              cfg["elements"])
+    else:
+        comp = structure_from_config(cfg, path, Component)
+    return replace(comp, source=str(Path(path)))

@@ -1,0 +1,184 @@
+"""Schemas of the component YAML files and the builder of a beam structure from them.
+
+Every value is checked on load (unknown/missing keys, types, NaN, ranges, references between
+keys such as a member naming an unknown node) and reported as ConfigError(file, key, problem).
+"""
+import math
+
+import numpy as np
+
+from motoflex_ros.config import Field, angle, load_yaml, positive, validate
+from motoflex_ros.errors import ConfigError
+from motoflex_ros.structures.assembly import Structure
+from motoflex_ros.structures.beam import Material, rectangular_tube_section, tube_section
+
+__all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "load_component_config", "structure_from_config"]
+
+_MATERIAL = Field("mapping", fields={
+    "E": positive(help="Young's modulus > 0 [Pa]"),
+    "G": positive(help="shear modulus > 0 [Pa]"),
+    "rho": positive(help="density > 0 [kg/m^3]"),
+})
+
+TUBE_SCHEMA = Field("mapping", fields={
+    "component": Field("str", choices=("tube",)),
+    "description": Field("str", required=False, default=""),
+    "tube": Field("mapping", fields={
+        "length": positive(help="length > 0 [m]"),
+        "outer_diameter": positive(help="outer diameter > 0 [m]"),
+        "wall_thickness": positive(help="wall thickness > 0 [m]"),
+        "pitch_deg": angle(-90.0, 90.0, help="pitch in [-90, 90] deg"),
+    }),
+    "material": _MATERIAL,
+    "elements": Field("int", 1, 100000, help="number of elements in [1, 100000]"),
+})
+
+_SECTION = Field("mapping", fields={
+    "shape": Field("str", choices=("tube", "rectangular_tube")),
+    "outer_diameter": positive(required=False),
+    "width": positive(required=False),
+    "height": positive(required=False),
+    "wall_thickness": positive(),
+})
+_NONNEG3 = Field("vec3", 0.0)
+
+STRUCTURE_SCHEMA = Field("mapping", fields={
+    "component": Field("str"),
+    "description": Field("str", required=False, default=""),
+    "placement": Field("mapping", fields={"origin": Field("vec3")}),
+    "materials": Field("mapping", extra=True, item=_MATERIAL, fields={}),
+    "sections": Field("mapping", extra=True, item=_SECTION, fields={}),
+    "nodes": Field("mapping", extra=True, item=Field("vec3"), fields={}),
+    "mesh": Field("mapping", fields={
+        "max_element_length": positive(help="element length > 0 [m]")}),
+    "members": Field("list", min_items=1, item=Field("mapping", fields={
+        "from": Field("str"), "to": Field("str"), "section": Field("str"),
+        "material": Field("str"),
+        "up": Field("vec3", required=False, default=None),
+    })),
+    "rigid_links": Field("list", required=False, default=[], item=Field("mapping", fields={
+        "master": Field("str"), "slave": Field("str"),
+        "dofs": Field("str", choices=("all", "translations"), required=False, default="all"),
+    })),
+    "springs": Field("list", required=False, default=[], item=Field("mapping", fields={
+        "from": Field("str"), "to": Field("str"),
+        "k_translation": _NONNEG3, "k_rotation": _NONNEG3,
+    })),
+    "rigid_parts": Field("mapping", required=False, default={}, extra=True,
+                         fields={}, item=Field("mapping", fields={
+                             "node": Field("str"),
+                             "mass": positive(help="mass > 0 [kg]"),
+                             "cg": Field("vec3"),
+                             "inertia": Field("vec3", 0.0, open_low=True),
+                         })),
+    "interfaces": Field("mapping", fields={
+        "loaded_end": Field("str"),
+        "clamps": Field("list", min_items=1, item=Field("str")),
+        "others": Field("list", required=False, default=[], item=Field("str")),
+    }),
+})
+
+
+def load_component_config(path):
+    """Read and validate a component YAML file (tube or structure schema)."""
+    data = load_yaml(path)
+    if not isinstance(data, dict):
+        raise ConfigError(path, "(top level)", "expected a mapping")
+    if "component" not in data:
+        raise ConfigError(path, "component", "missing (required: tube, frame, "
+                                             "front_assembly, swingarm or another name)")
+    schema = TUBE_SCHEMA if data["component"] == "tube" else STRUCTURE_SCHEMA
+    cfg = validate(data, schema, path)
+    if cfg["component"] == "tube":
+        t = cfg["tube"]
+        if 2 * t["wall_thickness"] >= t["outer_diameter"]:
+            raise ConfigError(path, "tube.wall_thickness", "must be less than half the outer "
+                                                           "diameter")
+    return cfg
+
+
+def _section(spec, source, key):
+    need = ("outer_diameter",) if spec["shape"] == "tube" else ("width", "height")
+    for name in need:
+        if spec[name] is None:
+            raise ConfigError(source, f"{key}.{name}", f"missing (required for shape "
+                                                       f"{spec['shape']}, > 0 [m])")
+    t = spec["wall_thickness"]
+    if spec["shape"] == "tube":
+        if 2 * t >= spec["outer_diameter"]:
+            raise ConfigError(source, f"{key}.wall_thickness", "must be less than half the "
+                                                               "outer diameter")
+        return tube_section(spec["outer_diameter"], t)
+    if 2 * t >= min(spec["width"], spec["height"]):
+        raise ConfigError(source, f"{key}.wall_thickness", "must be less than half the width "
+                                                           "and the height")
+    return rectangular_tube_section(spec["width"], spec["height"], t)
+
+
+def _lookup(table, name, source, key, what):
+    if name not in table:
+        known = ", ".join(sorted(table)) or "none"
+        raise ConfigError(source, key, f"unknown {what} '{name}' (defined: {known})")
+    return table[name]
+
+
+def _default_up(axis):
+    """Orientation vector: global y for members in the x-z plane... unless parallel."""
+    axis = axis / np.linalg.norm(axis)
+    up = np.array([0.0, 1.0, 0.0])
+    return up if abs(axis @ up) < 0.9 else np.array([0.0, 0.0, 1.0])
+
+
+def _add_members(s, cfg, names, source):
+    materials = {k: Material(v["E"], v["G"], v["rho"]) for k, v in cfg["materials"].items()}
+    sections = {k: _section(v, source, f"sections.{k}") for k, v in cfg["sections"].items()}
+    max_len = cfg["mesh"]["max_element_length"]
+    for i, mem in enumerate(cfg["members"]):
+        key = f"members[{i}]"
+        n1 = _lookup(names, mem["from"], source, f"{key}.from", "node")
+        n2 = _lookup(names, mem["to"], source, f"{key}.to", "node")
+        length = np.linalg.norm(s.nodes[n2] - s.nodes[n1])
+        if length < 1e-6:
+            raise ConfigError(source, f"{key}.to", "member has zero length")
+        sec = _lookup(sections, mem["section"], source, f"{key}.section", "section")
+        mat = _lookup(materials, mem["material"], source, f"{key}.material", "material")
+        up = mem["up"] if mem["up"] is not None else _default_up(s.nodes[n2] - s.nodes[n1])
+        count = max(1, math.ceil(length / max_len - 1e-9))
+        s.add_member(n1, n2, count, sec, mat, up=up)
+
+
+def _add_joints_and_parts(s, cfg, names, source):
+    for i, link in enumerate(cfg["rigid_links"]):
+        key = f"rigid_links[{i}]"
+        master = _lookup(names, link["master"], source, f"{key}.master", "node")
+        slave = _lookup(names, link["slave"], source, f"{key}.slave", "node")
+        dofs = range(6) if link["dofs"] == "all" else range(3)
+        s.add_link(master, slave, dofs)
+    for i, spring in enumerate(cfg["springs"]):
+        key = f"springs[{i}]"
+        n1 = _lookup(names, spring["from"], source, f"{key}.from", "node")
+        n2 = _lookup(names, spring["to"], source, f"{key}.to", "node")
+        s.add_spring(n1, n2, spring["k_translation"], spring["k_rotation"])
+    for part_name, part in cfg["rigid_parts"].items():
+        key = f"rigid_parts.{part_name}"
+        node = _lookup(names, part["node"], source, f"{key}.node", "node")
+        s.add_part(node, part["mass"], np.diag(part["inertia"]), part["cg"])
+
+
+def structure_from_config(cfg, source, component_cls):
+    """Build a Component (``component_cls``) from a validated structure configuration."""
+    s = Structure()
+    names = {name: s.add_node(xyz) for name, xyz in cfg["nodes"].items()}
+    _add_members(s, cfg, names, source)
+    _add_joints_and_parts(s, cfg, names, source)
+    itf = cfg["interfaces"]
+    clamps = tuple(_lookup(names, n, source, f"interfaces.clamps[{i}]", "node")
+                   for i, n in enumerate(itf["clamps"]))
+    end = _lookup(names, itf["loaded_end"], source, "interfaces.loaded_end", "node")
+    others = tuple(_lookup(names, n, source, f"interfaces.others[{i}]", "node")
+                   for i, n in enumerate(itf["others"]))
+    if end in clamps:
+        raise ConfigError(source, "interfaces.loaded_end", "the loaded end cannot be clamped")
+    return component_cls(name=cfg["component"], structure=s, clamp_nodes=clamps,
+                         loaded_end=end, interface_nodes=clamps + (end,) + others,
+                         node_names=names, origin=np.asarray(cfg["placement"]["origin"]))
