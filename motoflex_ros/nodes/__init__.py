@@ -1,0 +1,6 @@
+"""ROS 2 nodes of the rig: thin rclpy adapters around the numerical core (no physics here).
+
+One module per executable (``ros2 run motoflex_ros <name>`` or the console script of the same
+name); message conversions live in :mod:`.conversions`, shared plumbing in :mod:`.runtime` and
+:mod:`.params`.
+"""

@@ -1,0 +1,84 @@
+"""Lock-step pacing: a source publishes simulated time only as far as its consumers allow.
+
+Consumers acknowledge on /rig/ack (diagnostic_msgs/KeyValue: key = node name, value = simulated
+time [ns] they have fully handled) after each burst of messages. A pacing source
+(:mod:`.sim_clock`, :mod:`.bag_replay`) lets simulated time run at most ``window_ns`` ahead of
+the slowest acknowledgement. With reliable keep-all QoS nothing is dropped, the queues stay
+bounded, and since every node handles its inputs in order the results do not depend on how fast
+the machine is. Start-up: the source waits until every node it needs has announced itself on
+/rig/ready (its subscriptions see their publishers).
+"""
+import time
+
+from diagnostic_msgs.msg import KeyValue
+from std_msgs.msg import String
+
+from motoflex_ros.errors import MotoflexError
+from motoflex_ros.nodes.runtime import ACK_TOPIC, READY_TOPIC, latched_qos
+
+__all__ = ["AckGate", "ReadyWatch", "StallError"]
+
+
+class StallError(MotoflexError):
+    """A consumer stopped acknowledging (died or hung)."""
+
+
+class ReadyWatch:
+    """Collects the names announced on /rig/ready; ``ready()`` when all ``names`` are in."""
+
+    def __init__(self, node, names):
+        self.names = frozenset(names)
+        self.seen = set()
+        node.subscribe(String, READY_TOPIC, self._on_ready, qos=latched_qos())
+
+    def _on_ready(self, msg):
+        self.seen.add(msg.data)
+
+    def ready(self):
+        """True when every expected node has announced itself."""
+        return self.names <= self.seen
+
+    def missing(self):
+        """Expected nodes not yet ready, sorted."""
+        return sorted(self.names - self.seen)
+
+
+class AckGate:
+    """Tracks acknowledgements of ``names`` and how far simulated time may advance."""
+
+    def __init__(self, node, names, window_ns, stall_s):
+        self.acked = {name: -1 for name in names}
+        self.window_ns = int(window_ns)
+        self.stall_s = stall_s
+        self._progress = time.monotonic()
+        node.subscribe(KeyValue, ACK_TOPIC, self._on_ack)
+
+    def _on_ack(self, msg):
+        if msg.key in self.acked:
+            value = int(msg.value)
+            if value > self.acked[msg.key]:
+                self.acked[msg.key] = value
+                self._progress = time.monotonic()
+
+    def slowest_ns(self):
+        """Simulated time every consumer has handled [ns] (-1 if one has not acked yet)."""
+        return min(self.acked.values(), default=2**62)
+
+    def allows(self, t_ns):
+        """May a message at simulated time ``t_ns`` go out now?"""
+        return t_ns <= self.slowest_ns() + self.window_ns
+
+    def all_acked(self, t_ns):
+        """Has every consumer handled everything up to ``t_ns``?"""
+        return self.slowest_ns() >= t_ns
+
+    def check_stall(self):
+        """Raise StallError if no acknowledgement arrived for ``stall_s`` seconds."""
+        if time.monotonic() - self._progress > self.stall_s:
+            late = sorted(n for n, t in self.acked.items() if t == self.slowest_ns())
+            raise StallError(f"no acknowledgement for {self.stall_s:g} s from "
+                             f"{', '.join(late)} (node died or hung?)")
+
+    def touch(self):
+        """Restart the stall timer (e.g. when the run starts)."""
+        self._progress = time.monotonic()

@@ -1,0 +1,101 @@
+"""recorder: writes every topic of a run to a rosbag2 MCAP bag (``bag`` parameter: directory).
+
+Subscribes raw (serialized CDR bytes, no deserialization) to the topics listed in ``topics``,
+or, if that list is empty, to every topic it discovers except the rig's own /rig/* and the
+ROS bookkeeping topics. Each message is stamped with its receive time [ns] (as rosbag2 does).
+The MCAP file is finished and metadata.yaml written on SIGINT, SIGTERM and at the end of a run;
+a killed recorder leaves an MCAP that ``motoflex bag repair`` salvages. With ``ack`` the
+recorder acknowledges recorded /clock times on /rig/ack, so a pacing source never outruns it.
+"""
+import sys
+import time
+
+from motoflex_ros.nodes.conversions import clock_ns_from_cdr
+from motoflex_ros.nodes.params import Param, ParameterError
+from motoflex_ros.nodes.runtime import RigNode, message_class, run_node
+from motoflex_ros.record.mcap_bag import BagWriter
+
+__all__ = ["Recorder", "main", "IGNORED_PREFIXES"]
+
+IGNORED_PREFIXES = ("/rig/", "/rosout", "/parameter_events")
+
+
+class Recorder(RigNode):
+    """Raw subscriptions -> :class:`motoflex_ros.record.mcap_bag.BagWriter`."""
+
+    NAME = "recorder"
+    PARAMS = (
+        Param("bag", "", description="bag directory to create (must not exist)"),
+        Param("topics", (), description="topics to record (empty: every topic discovered)"),
+        Param("chunk_size", 262144, 4096, 64 * 2**20, description="MCAP chunk size [bytes]"),
+        Param("compression", "zstd", choices=("zstd", "lz4", "none")),
+        Param("ack", False, description="acknowledge recorded /clock times on /rig/ack"),
+        Param("discovery_period", 0.2, 0.01, 60.0, description="topic discovery period [s]"),
+    )
+
+    def __init__(self):
+        super().__init__()
+        p = self.params
+        if not p["bag"]:
+            raise ParameterError("node 'recorder': parameter 'bag' is required (bag directory)")
+        self.writer = BagWriter(p["bag"], chunk_size=p["chunk_size"],
+                                compression=p["compression"])
+        self.wanted = tuple(p["topics"])
+        self.recorded = {}
+        self._next_discovery = 0.0
+        self.discover()
+
+    def discover(self):
+        """Subscribe to every wanted topic that has appeared on the graph."""
+        for topic, types in self.get_topic_names_and_types():
+            if topic in self.recorded or not self._wants(topic):
+                continue
+            type_name = types[0]
+            self.writer.add_topic(topic, type_name)
+            callback = self._clock_callback if topic == "/clock" else self._callback(topic)
+            self.subscribe(message_class(type_name), topic, callback, raw=True)
+            self.recorded[topic] = type_name
+        self._next_discovery = time.monotonic() + self.params["discovery_period"]
+
+    def _wants(self, topic):
+        if self.wanted:
+            return topic in self.wanted
+        return not topic.startswith(IGNORED_PREFIXES)
+
+    def _callback(self, topic):
+        write = self.writer.write
+
+        def record(data):
+            write(topic, time.time_ns(), data)
+        return record
+
+    def _clock_callback(self, data):
+        self.writer.write("/clock", time.time_ns(), data)
+        if self.params["ack"]:
+            self.processed(clock_ns_from_cdr(data))
+
+    def inputs_ready(self):
+        """Ready when every listed topic is subscribed and sees a publisher."""
+        return all(t in self.recorded for t in self.wanted) and super().inputs_ready()
+
+    def step(self, spinner):
+        """Record what arrived; look for new topics now and then."""
+        if time.monotonic() >= self._next_discovery:
+            self.discover()
+        super().step(spinner)
+
+    def close(self, reason):
+        """Finish the MCAP file and write metadata.yaml."""
+        self.writer.close()
+        self.get_logger().info(f"bag {self.writer.path} closed ({reason}): "
+                               f"{self.writer.message_count} messages")
+        super().close(reason)
+
+
+def main(args=None):
+    """Console script ``recorder``."""
+    return run_node(Recorder, args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,198 @@
+"""Plumbing shared by every node: base class, fast message loop, gap detection, ``main``.
+
+- :class:`RigNode` declares and validates the node's parameters (:mod:`.params`), turns on
+  ``use_sim_time`` unless told otherwise, creates reliable keep-all publishers and
+  subscriptions, checks the DDS publication sequence number of every received message and
+  reports each gap (lost messages), and announces on ``/rig/ready`` once every subscription
+  sees a publisher.
+- :class:`FastSpinner` waits on all subscriptions of a node and then drains each one with
+  ``take_message`` until empty: one wait per burst instead of one executor turn per message
+  (measured about 13x faster than ``SingleThreadedExecutor.spin_once``, which lost the race at
+  about 1,500 messages/s here).
+- :func:`run_node` is every executable's ``main``: ``rclpy.init`` reads ``--ros-args``
+  (``-p``, ``--params-file``), SIGINT and SIGTERM end the loop cleanly (the node's
+  :meth:`RigNode.close` runs), a parameter error prints one line and exits with 2.
+"""
+import importlib
+import signal
+import sys
+
+import rclpy
+from diagnostic_msgs.msg import KeyValue
+from rclpy.impl.implementation_singleton import rclpy_implementation
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
+from std_msgs.msg import String
+
+from motoflex_ros.errors import MotoflexError
+from motoflex_ros.nodes.params import declare_parameters
+
+__all__ = ["RigNode", "FastSpinner", "run_node", "message_class", "reliable_qos",
+           "latched_qos", "READY_TOPIC", "ACK_TOPIC"]
+
+READY_TOPIC = "/rig/ready"
+ACK_TOPIC = "/rig/ack"
+
+
+def message_class(type_name):
+    """The rclpy message class of 'pkg/msg/Type'."""
+    package, _, name = type_name.split("/")
+    return getattr(importlib.import_module(f"{package}.msg"), name)
+
+
+def reliable_qos():
+    """Reliable, keep-all, volatile: nothing is dropped, the writer waits for the reader."""
+    return QoSProfile(depth=1, history=HistoryPolicy.KEEP_ALL,
+                      reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.VOLATILE)
+
+
+def latched_qos(depth=100):
+    """Reliable, transient-local: late subscribers get the last ``depth`` messages."""
+    return QoSProfile(depth=depth, history=HistoryPolicy.KEEP_LAST,
+                      reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
+class RigNode(Node):
+    """Base of the rig's nodes. Subclasses set ``PARAMS`` (tuple of :class:`.params.Param`)."""
+
+    PARAMS = ()
+
+    NAME = "node"
+
+    def __init__(self, name=None):
+        super().__init__(name or self.NAME)
+        if "use_sim_time" not in self._parameter_overrides:
+            self.set_parameters([Parameter("use_sim_time", value=True)])
+        self.params = declare_parameters(self, self.PARAMS)
+        self.finished = False
+        self.exit_code = 0
+        self.gaps = 0
+        self._last_seq = {}
+        self._checked = set()
+        self._ready_sent = False
+        self._ready_pub = self.create_publisher(String, READY_TOPIC, latched_qos())
+        self._ack_pub = None
+        self._processed_ns = None
+        self._acked_ns = None
+
+    def subscribe(self, msg_type, topic, callback, raw=False, qos=None):
+        """Reliable keep-all subscription whose sequence numbers are checked for gaps."""
+        sub = self.create_subscription(msg_type, topic, callback, qos or reliable_qos(),
+                                       raw=raw)
+        self._checked.add(sub)
+        return sub
+
+    def advertise(self, msg_type, topic, qos=None):
+        """Reliable keep-all publisher."""
+        return self.create_publisher(msg_type, topic, qos or reliable_qos())
+
+    def check_sequence(self, sub, info):
+        """Count and report messages lost on ``sub`` (DDS publication sequence numbers)."""
+        if sub not in self._checked:
+            return
+        seq = info.get("publication_sequence_number")
+        if seq is None:
+            return
+        last = self._last_seq.get(sub, 0)
+        if seq > last + 1:
+            lost = seq - last - 1
+            self.gaps += lost
+            self.get_logger().error(f"gap on {sub.topic_name}: {lost} message(s) lost "
+                                    f"(sequence {last} -> {seq})")
+        self._last_seq[sub] = max(seq, last)
+
+    def inputs_ready(self):
+        """True when every checked subscription sees at least one publisher."""
+        return all(sub.get_publisher_count() > 0 for sub in self._checked)
+
+    def announce_ready(self):
+        """Publish this node's name on /rig/ready once its inputs see their publishers."""
+        if not self._ready_sent and self.inputs_ready():
+            self._ready_pub.publish(String(data=self.get_name()))
+            self._ready_sent = True
+        return self._ready_sent
+
+    def processed(self, sim_time_ns):
+        """Note that all up to ``sim_time_ns`` was handled (acknowledged after the burst)."""
+        if self._ack_pub is None:
+            self._ack_pub = self.advertise(KeyValue, ACK_TOPIC)
+        self._processed_ns = sim_time_ns
+
+    def acknowledge(self):
+        """Publish on /rig/ack (key: node name, value: sim time [ns]) what was handled."""
+        if self._processed_ns is not None and self._processed_ns != self._acked_ns:
+            self._ack_pub.publish(KeyValue(key=self.get_name(), value=str(self._processed_ns)))
+            self._acked_ns = self._processed_ns
+
+    def step(self, spinner):
+        """One turn of the main loop: wait for messages, handle them all, acknowledge."""
+        self.announce_ready()
+        spinner.spin_once(0.1)
+        self.acknowledge()
+
+    def close(self, reason):
+        """Called once when the loop ends (``reason``: 'finished', 'SIGINT', 'SIGTERM')."""
+        if self.gaps:
+            self.get_logger().error(f"{self.gaps} message(s) lost in total")
+
+
+class FastSpinner:
+    """Wait on every subscription of a node, then drain each ready one completely."""
+
+    def __init__(self, node):
+        self._rclpy = rclpy_implementation
+        self.node = node
+
+    def spin_once(self, timeout_s):
+        """Handle every message available within ``timeout_s`` [s]; returns the count."""
+        subs = list(self.node.subscriptions)
+        context = self.node.context
+        if timeout_s != 0:
+            with context.handle:
+                wait_set = self._rclpy.WaitSet(len(subs), 0, 0, 0, 0, 0, context.handle)
+                for sub in subs:
+                    wait_set.add_subscription(sub.handle)
+                wait_set.wait(int(timeout_s * 1e9))
+        return sum(self._drain(sub) for sub in subs)
+
+    def _drain(self, sub):
+        count = 0
+        handle, msg_type, raw, callback = sub.handle, sub.msg_type, sub.raw, sub.callback
+        check = self.node.check_sequence
+        while True:
+            taken = handle.take_message(msg_type, raw)
+            if taken is None:
+                return count
+            check(sub, taken[1])
+            callback(taken[0])
+            count += 1
+
+
+def run_node(node_class, args=None):
+    """Run ``node_class`` until it finishes or gets SIGINT/SIGTERM; returns the exit code."""
+    stop = []
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, lambda num, _frame: stop.append(signal.Signals(num).name))
+    try:
+        node = node_class()
+    except MotoflexError as exc:
+        print(f"{node_class.NAME}: error: {exc}", file=sys.stderr)
+        rclpy.try_shutdown()
+        return 2
+    spinner = FastSpinner(node)
+    try:
+        while not stop and not node.finished:
+            node.step(spinner)
+    except MotoflexError as exc:
+        node.get_logger().error(str(exc))
+        node.exit_code = 2
+    finally:
+        node.close(stop[0] if stop else "finished")
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return node.exit_code
