@@ -1,0 +1,204 @@
+"""Equations of motion in residual form (Kane's method with numerical partial velocities).
+
+State x = [q_r, u_i, z]: independent non-cyclic coordinates q_r (roll and the joint angles),
+independent lateral speeds u_i (their rates, plus lateral velocity and yaw rate of the base when
+the wheels run on tyres), and tyre states z (side force and aligning moment of each tyre). The
+forward speed v is a parameter. Cyclic coordinates (x, y, yaw, wheel spins) are held at zero;
+height and pitch of the base follow from the contact-height constraints (fixed-count Newton);
+dependent speeds (z', pitch', spins and, for knife-edge wheels, y' and yaw') follow from the
+rolling constraints G u = 0 and their accelerations from G u' + G' u = 0.
+
+Residual R(x', x; v) = [q_r' - u(q_r);  S^T (sum J^T m a + J_w^T (I w' + w x I w) - Q);
+tyre relaxation rows], S = du/du_i the partial velocities. E = dR/dx', A = -dR/dx.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.vehicle.contact import GROUND_NORMAL, contact_state
+from motoflex_ros.vehicle.kinematics import compile_tree, frame_states
+from motoflex_ros.vehicle.spatial import cross
+
+__all__ = ["VehicleSystem", "build_system", "residual", "generalized_force_residual"]
+
+_NEWTON_STEPS = 3
+
+
+@dataclass(frozen=True)
+class VehicleSystem:
+    """A compiled vehicle: tree, index partition, constraint list and state names."""
+
+    model: object
+    tree: object
+    indep_pos: tuple
+    dep_pos: tuple
+    indep_speed: tuple
+    dep_speed: tuple
+    constraints: tuple
+    state_names: tuple
+
+    @property
+    def n_states(self):
+        """Number of states of the linear model."""
+        return len(self.state_names)
+
+    @property
+    def n_tyre_states(self):
+        """Two relaxed states (side force, aligning moment) per tyre."""
+        return 2 * sum(w.tyre is not None for w in self.model.wheels)
+
+
+def _partition(tree, wheels):
+    idx = tree.index
+    knife = [w for w in wheels if w.tyre is None]
+    lateral_dep = [idx("y"), idx("yaw")][:len(knife)]
+    spins = [k for k, c in enumerate(tree.coordinates) if c.group == "spin"]
+    dep_speed = [idx("z"), idx("pitch"), *spins, *lateral_dep]
+    joints = [k for k, c in enumerate(tree.coordinates) if c.group == "joint"]
+    indep_pos = [idx("roll"), *joints]
+    lateral_free = [k for k in (idx("y"), idx("yaw")) if k not in lateral_dep]
+    indep_speed = [*lateral_free, *indep_pos]
+    constraints = [(i, d) for i, w in enumerate(wheels)
+                   for d in (("long", "lat", "normal") if w.tyre is None else ("long", "normal"))]
+    return indep_pos, [idx("z"), idx("pitch")], indep_speed, dep_speed, constraints
+
+
+def _state_names(tree, indep_pos, indep_speed, wheels):
+    names = [tree.coordinates[k].name for k in indep_pos]
+    names += [f"{tree.coordinates[k].name}_rate" for k in indep_speed]
+    for w in wheels:
+        if w.tyre is not None:
+            names += [f"{w.name}_side_force", f"{w.name}_aligning_moment"]
+    return tuple(names)
+
+
+def build_system(model):
+    """Compile a VehicleModel into a VehicleSystem and check the reference contact."""
+    tree = compile_tree(model)
+    ip, dp, isp, dsp, cons = _partition(tree, model.wheels)
+    if len(cons) != len(dsp):
+        raise ModelError(f"{model.source}: {len(cons)} rolling constraints for {len(dsp)} "
+                         "dependent speeds; use two wheels, both knife-edge or both tyred")
+    system = VehicleSystem(model, tree, tuple(ip), tuple(dp), tuple(isp), tuple(dsp),
+                           tuple(cons), _state_names(tree, ip, isp, model.wheels))
+    n = len(tree.coordinates)
+    frames = frame_states(tree, np.zeros(n), np.zeros(n))
+    for wheel, f in zip(model.wheels, tree.wheel_frames):
+        height = contact_state(wheel, frames[f], np.zeros(n)).height
+        if abs(height) > 1e-6:
+            raise ConfigError(model.source, f"wheels.{wheel.name}.centre",
+                              f"the tyre does not touch the ground in the reference "
+                              f"configuration (contact height {height:.6g} m; the centre height "
+                              "must equal the radius)")
+    return system
+
+
+def _contacts(system, q, u):
+    frames = frame_states(system.tree, q, u)
+    contacts = [contact_state(w, frames[f], u)
+                for w, f in zip(system.model.wheels, system.tree.wheel_frames)]
+    return frames, contacts
+
+
+def _solve_positions(system, q):
+    zero = np.zeros_like(q)
+    dep = list(system.dep_pos)
+    for _ in range(_NEWTON_STEPS):
+        _, contacts = _contacts(system, q, zero)
+        heights = np.array([c.height for c in contacts])
+        jac = np.array([GROUND_NORMAL @ c.J[:, dep] for c in contacts])
+        q[dep] = q[dep] - np.linalg.solve(jac, heights)
+    return q
+
+
+def _constraint_rows(system, contacts):
+    rows = [contacts[i].row(d) for i, d in system.constraints]
+    return np.array([r for r, _ in rows]), np.array([b for _, b in rows])
+
+
+def _solve_dependent(system, G, known, extra=0.0):
+    dep = list(system.dep_speed)
+    out = known.copy()
+    out[dep] = np.linalg.solve(G[:, dep], -(G @ known) - extra)
+    return out
+
+
+def _partial_velocities(system, G):
+    n = G.shape[1]
+    S = np.zeros((n, len(system.indep_speed)), G.dtype)
+    S[list(system.indep_speed), np.arange(len(system.indep_speed))] = 1.0
+    dep = list(system.dep_speed)
+    S[dep, :] = -np.linalg.solve(G[:, dep], G[:, list(system.indep_speed)])
+    return S
+
+
+def generalized_force_residual(system, frames, u, udot):
+    """Generalised inertia minus gravity forces: sum J^T m (a - g) + J_w^T (I w' + w x I w)."""
+    g = np.array([0.0, 0.0, -system.model.gravity])
+    out = np.zeros(len(u), np.result_type(u, udot, frames[-1].R))
+    for item in system.tree.masses:
+        f = frames[item.frame]
+        c = f.R @ item.com + f.t
+        Jc = f.point_velocity_jacobian(c)
+        acc = Jc @ udot + f.dv0 + cross(f.dw, c) + cross(f.w, Jc @ u)
+        inertia = f.R @ item.inertia @ f.R.T
+        wdot = f.Jw @ udot + f.dw
+        out += Jc.T @ (item.mass * (acc - g))
+        out += f.Jw.T @ (inertia @ wdot + cross(f.w, inertia @ f.w))
+    return out
+
+
+def _joint_spring_dampers(system, q, u):
+    """Generalised forces of the joint springs and dampers, with the sign of a residual."""
+    coords = system.tree.coordinates
+    return np.array([c.stiffness * q[k] + c.damping * u[k] for k, c in enumerate(coords)])
+
+
+def residual(system, xdot, x, v):
+    """Residual R(x', x; v) of the equations of motion (module docstring); v [m/s] > 0."""
+    n = len(system.tree.coordinates)
+    nq, nu = len(system.indep_pos), len(system.indep_speed)
+    dtype = np.result_type(xdot, x, float)
+    q = np.zeros(n, dtype)
+    q[list(system.indep_pos)] = x[:nq]
+    q = _solve_positions(system, q)
+    known = np.zeros(n, dtype)
+    known[0] = v
+    known[list(system.indep_speed)] = x[nq:nq + nu]
+    _, contacts = _contacts(system, q, known)
+    G, _ = _constraint_rows(system, contacts)
+    u = _solve_dependent(system, G, known)
+    frames, contacts = _contacts(system, q, u)
+    G, bias = _constraint_rows(system, contacts)
+    acc = np.zeros(n, dtype)
+    acc[list(system.indep_speed)] = xdot[nq:nq + nu]
+    udot = _solve_dependent(system, G, acc, bias)
+    forces = generalized_force_residual(system, frames, u, udot)
+    forces += _joint_spring_dampers(system, q, u)
+    tyre_rows = _tyre_forces_and_rows(system, frames, contacts, xdot[nq + nu:], x[nq + nu:], v)
+    forces -= tyre_rows[1]
+    S = _partial_velocities(system, G)
+    kin = xdot[:nq] - u[list(system.indep_pos)]
+    return np.concatenate([kin, S.T @ forces, np.array(tyre_rows[0], dtype)])
+
+
+def _tyre_forces_and_rows(system, frames, contacts, xdot_z, z, v):
+    """Relaxation rows and the generalised force of the tyre side forces and moments."""
+    n = len(system.tree.coordinates)
+    rows = []
+    force = np.zeros(n, np.result_type(z, contacts[0].J))
+    k = 0
+    for wheel, f, c in zip(system.model.wheels, system.tree.wheel_frames, contacts):
+        tyre = wheel.tyre
+        if tyre is None:
+            continue
+        F, M = z[k], z[k + 1]
+        slip = c.l @ c.v
+        sigma = tyre.relaxation_length(v)
+        rows.append(sigma * xdot_z[k] + tyre.k_alpha * slip - v * (tyre.k_gamma * c.camber - F))
+        rows.append(sigma * xdot_z[k + 1] - tyre.k_malpha * slip
+                    - v * (tyre.k_mgamma * c.camber - M))
+        force += c.J.T @ (F * c.l) + frames[f].Jw.T @ (M * GROUND_NORMAL)
+        k += 2
+    return rows, force

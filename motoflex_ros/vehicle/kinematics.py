@@ -1,0 +1,166 @@
+"""Tree kinematics of a vehicle on a 6-DOF floating base (numerical TMT/Kane building blocks).
+
+Every generalised coordinate q_k moves one frame relative to its parent frame (frame 0 is the
+ground, coordinate k creates frame k + 1): prismatic along a unit axis, or revolute about a unit
+axis through a point, both given in the reference configuration. The floating base is the chain
+x, y, z (prismatic along the ground axes), yaw (z), roll (x), pitch (y) about the origin. A pose
+maps reference positions to current ones, x = R x_ref + t. Twists are (omega, v_O): angular
+velocity and velocity of the frame-fixed point at the world origin, so a point x moves with
+v = v_O + omega x x; bias accelerations are the twist derivatives at zero generalised
+acceleration. All arithmetic is complex-step safe.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from motoflex_ros.errors import ModelError
+from motoflex_ros.vehicle.spatial import cross, rotation, skew
+
+__all__ = ["Coordinate", "MassItem", "Tree", "FrameState", "compile_tree", "frame_states",
+           "BASE_NAMES"]
+
+BASE_NAMES = ("x", "y", "z", "yaw", "roll", "pitch")
+_BASE_AXES = ((1, 0, 0), (0, 1, 0), (0, 0, 1), (0, 0, 1), (1, 0, 0), (0, 1, 0))
+
+
+@dataclass(frozen=True)
+class Coordinate:
+    """One generalised coordinate: kind 'prismatic' or 'revolute', group 'base', 'joint' or
+    'spin'; stiffness [N m/rad] and damping [N m s/rad] of a spring/damper acting on it."""
+
+    name: str
+    kind: str
+    group: str
+    parent_frame: int
+    axis: np.ndarray
+    point: np.ndarray
+    stiffness: float = 0.0
+    damping: float = 0.0
+
+
+@dataclass(frozen=True)
+class MassItem:
+    """A rigid mass attached to a frame: mass [kg], com [m], inertia [kg m^2] (reference)."""
+
+    name: str
+    frame: int
+    mass: float
+    com: np.ndarray
+    inertia: np.ndarray
+
+
+@dataclass(frozen=True)
+class Tree:
+    """Compiled kinematic tree: coordinates, masses, frames of bodies and wheels."""
+
+    coordinates: tuple
+    masses: tuple
+    body_frames: dict
+    wheel_frames: tuple
+
+    def index(self, name):
+        """Index of the coordinate called ``name``."""
+        return next(k for k, c in enumerate(self.coordinates) if c.name == name)
+
+
+@dataclass(frozen=True)
+class FrameState:
+    """Pose (R, t), twist (w, v0), bias twist derivative (dw, dv0) and twist Jacobians of a
+    frame (3 x n each: w = Jw u, v0 = Jv u)."""
+
+    R: np.ndarray
+    t: np.ndarray
+    w: np.ndarray
+    v0: np.ndarray
+    dw: np.ndarray
+    dv0: np.ndarray
+    Jw: np.ndarray
+    Jv: np.ndarray
+
+    def point_velocity_jacobian(self, x):
+        """3 x n Jacobian of the velocity of the frame-fixed point currently at x [m]."""
+        return self.Jv - skew(x) @ self.Jw
+
+
+def _base_coordinates():
+    zero = np.zeros(3)
+    return [Coordinate(name, "prismatic" if k < 3 else "revolute", "base", k,
+                       np.array(_BASE_AXES[k], float), zero) for k, name in enumerate(BASE_NAMES)]
+
+
+def _wheel_mass(wheel, frame):
+    a = wheel.axis
+    inertia = wheel.diametral_inertia * (np.eye(3) - np.outer(a, a))
+    inertia += wheel.spin_inertia * np.outer(a, a)
+    return MassItem(wheel.name, frame, wheel.mass, wheel.centre, inertia)
+
+
+def _attach_joints(model, coords, frames):
+    pending = list(model.joints)
+    while pending:
+        ready = [j for j in pending if j.parent in frames]
+        if not ready:
+            names = ", ".join(j.name for j in pending)
+            raise ModelError(f"{model.source}: joints {names} do not connect to the root body "
+                             f"'{model.root}' (or form a loop)")
+        for joint in ready:
+            pending.remove(joint)
+            if joint.child in frames:
+                raise ModelError(f"{model.source}: body '{joint.child}' has two parent joints")
+            if joint.kind == "fixed":
+                frames[joint.child] = frames[joint.parent]
+                continue
+            coords.append(Coordinate(joint.name, joint.kind, "joint", frames[joint.parent],
+                                     joint.axis, joint.point, joint.stiffness, joint.damping))
+            frames[joint.child] = len(coords)
+
+
+def compile_tree(model):
+    """Compile a VehicleModel into coordinates and masses (base, joints, wheel spins)."""
+    coords = _base_coordinates()
+    frames = {model.root: len(coords)}
+    _attach_joints(model, coords, frames)
+    missing = [b.name for b in model.bodies if b.name not in frames]
+    if missing:
+        raise ModelError(f"{model.source}: bodies {', '.join(missing)} are not attached")
+    wheel_frames = []
+    for wheel in model.wheels:
+        coords.append(Coordinate(f"{wheel.name}_spin", "revolute", "spin",
+                                 frames[wheel.carrier], wheel.axis, wheel.centre))
+        wheel_frames.append(len(coords))
+    masses = [MassItem(b.name, frames[b.name], b.mass, b.com, b.inertia) for b in model.bodies]
+    masses += [_wheel_mass(w, f) for w, f in zip(model.wheels, wheel_frames)]
+    return Tree(tuple(coords), tuple(masses), dict(frames), tuple(wheel_frames))
+
+
+def _child_state(coord, k, parent, q, u):
+    a_w = parent.R @ coord.axis
+    a_dot = cross(parent.w, a_w)
+    if coord.kind == "revolute":
+        rel = rotation(coord.axis, q[k])
+        R = parent.R @ rel
+        t = parent.R @ (coord.point - rel @ coord.point) + parent.t
+        s_w = parent.R @ coord.point + parent.t
+        s_dot = parent.v0 + cross(parent.w, s_w)
+        col_w, col_v = a_w, cross(s_w, a_w)
+        dcol_w, dcol_v = a_dot, cross(s_dot, a_w) + cross(s_w, a_dot)
+    else:
+        R, t = parent.R, parent.t + q[k] * a_w
+        col_w, col_v = 0.0 * a_w, a_w
+        dcol_w, dcol_v = 0.0 * a_w, a_dot
+    Jw, Jv = parent.Jw.copy(), parent.Jv.copy()
+    Jw[:, k], Jv[:, k] = col_w, col_v
+    return FrameState(R, t, parent.w + col_w * u[k], parent.v0 + col_v * u[k],
+                      parent.dw + dcol_w * u[k], parent.dv0 + dcol_v * u[k], Jw, Jv)
+
+
+def frame_states(tree, q, u):
+    """FrameState of every frame (index 0 ground) at coordinates q and speeds u."""
+    n = len(tree.coordinates)
+    dtype = np.result_type(q, u, float)
+    zero3, zero_j = np.zeros(3, dtype), np.zeros((3, n), dtype)
+    states = [FrameState(np.eye(3, dtype=dtype), zero3, zero3, zero3, zero3, zero3,
+                         zero_j, zero_j)]
+    for k, coord in enumerate(tree.coordinates):
+        states.append(_child_state(coord, k, states[coord.parent_frame], q, u))
+    return states

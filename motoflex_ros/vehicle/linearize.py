@@ -1,0 +1,128 @@
+"""Linearization about upright straight running and the speed polynomial of E(v), A(v).
+
+The residual R(x', x; v) (dynamics.py) is differentiated by the complex-step method,
+df/dx_k = Im f(x + i h e_k)/h, exact to rounding. Written that way the linearized equations are
+polynomial in the forward speed v of degree 2 (gyroscopic and tyre terms linear, centripetal
+terms quadratic; a Magic Formula relaxation length sigma(v) = K(a + b v + c v^2) enters E
+explicitly as a polynomial), so three linearizations give the coefficient matrices exactly and a
+fourth speed checks them. A sweep over many speeds then costs one matrix sum per speed.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+
+from motoflex_ros.errors import ModelError
+from motoflex_ros.vehicle.dynamics import build_system, residual
+
+__all__ = ["LinearVehicle", "SecondOrderMatrices", "linearize_at", "linearize"]
+
+_STEP = 1e-30
+_FIT_SPEEDS = (1.0, 2.0, 3.0)
+_CHECK_SPEED = 7.5
+
+
+@dataclass(frozen=True)
+class SecondOrderMatrices:
+    """M q'' + v C1 q' + (g K0 + v^2 K2) q = f for a model without tyre states (Meijaard 2007
+    form); C0 collects speed-independent damping (joint dampers). Units follow q."""
+
+    M: np.ndarray
+    C0: np.ndarray
+    C1: np.ndarray
+    K0: np.ndarray
+    K2: np.ndarray
+
+
+def linearize_at(system, v):
+    """(E, A) of E x' = A x at speed v [m/s] by complex-step differentiation."""
+    n = system.n_states
+    E, A = np.zeros((n, n)), np.zeros((n, n))
+    zero = np.zeros(n, complex)
+    for k in range(n):
+        step = np.zeros(n, complex)
+        step[k] = 1j * _STEP
+        E[:, k] = residual(system, step, zero, v).imag / _STEP
+        A[:, k] = -residual(system, zero, step, v).imag / _STEP
+    return E, A
+
+
+def _fit(values, speeds):
+    vander = np.vander(np.asarray(speeds), len(speeds), increasing=True)
+    stacked = np.array(values).reshape(len(speeds), -1)
+    coeffs = np.linalg.solve(vander, stacked)
+    return coeffs.reshape((len(speeds),) + values[0].shape)
+
+
+def _poly(coeffs, speeds):
+    speeds = np.atleast_1d(np.asarray(speeds, float))
+    powers = speeds[:, None] ** np.arange(len(coeffs))[None, :]
+    return np.einsum("sk,kij->sij", powers, coeffs)
+
+
+@dataclass(frozen=True)
+class LinearVehicle:
+    """Linearized vehicle: E(v) = sum v^k E_k, A(v) = sum v^k A_k (k = 0, 1, 2)."""
+
+    system: object
+    E_coeffs: np.ndarray
+    A_coeffs: np.ndarray
+
+    @property
+    def state_names(self):
+        """Names of the states (coordinates, rates, tyre states)."""
+        return self.system.state_names
+
+    def pencil(self, speeds):
+        """Stacked E(v), A(v) for the given speeds [m/s], shapes (s, n, n)."""
+        return _poly(self.E_coeffs, speeds), _poly(self.A_coeffs, speeds)
+
+    def state_matrix(self, speeds):
+        """Stacked A_s(v) = E(v)^-1 A(v) [1/s]; ModelError when E is singular (massless
+        bodies: use ``eigenvalues``, which solves the generalized problem)."""
+        E, A = self.pencil(speeds)
+        try:
+            return np.linalg.solve(E, A)
+        except np.linalg.LinAlgError:
+            raise ModelError(f"{self.system.model.source}: singular E(v) (massless bodies); "
+                             "use the descriptor form") from None
+
+    def eigenvalues(self, speed):
+        """Finite eigenvalues [1/s] of E x' = A x at one speed (infinite ones dropped)."""
+        E, A = self.pencil([speed])
+        alpha, beta = scipy.linalg.eig(A[0], E[0], right=False, homogeneous_eigvals=True)
+        finite = np.abs(beta) > 1e-12 * np.maximum(np.abs(alpha), 1.0)
+        return alpha[finite] / beta[finite]
+
+    def second_order(self):
+        """Meijaard-form matrices M, C0, C1, K0, K2 (no tyre states only)."""
+        if self.system.n_tyre_states:
+            raise ModelError("second-order form exists only without tyre states")
+        nq = len(self.system.indep_pos)
+        if len(self.system.indep_speed) != nq:
+            raise ModelError("second-order form needs one speed per coordinate")
+        rows = slice(nq, 2 * nq)
+        M = self.E_coeffs[0][rows, rows]
+        K = -self.A_coeffs[:, rows, :nq]
+        C = -self.A_coeffs[:, rows, nq:]
+        return SecondOrderMatrices(M, C[0], C[1], K[0] / self.system.model.gravity, K[2])
+
+
+def linearize(model):
+    """LinearVehicle of a VehicleModel (or a compiled VehicleSystem).
+
+    Linearizes at three speeds, fits the quadratic speed polynomial and checks it at a fourth
+    speed; a mismatch (speed dependence the engine does not know about) is a ModelError.
+    """
+    system = model if hasattr(model, "tree") else build_system(model)
+    pencils = [linearize_at(system, v) for v in _FIT_SPEEDS]
+    result = LinearVehicle(system, _fit([p[0] for p in pencils], _FIT_SPEEDS),
+                           _fit([p[1] for p in pencils], _FIT_SPEEDS))
+    E_chk, A_chk = linearize_at(system, _CHECK_SPEED)
+    E_fit, A_fit = result.pencil([_CHECK_SPEED])
+    for name, got, want in (("E", E_fit[0], E_chk), ("A", A_fit[0], A_chk)):
+        error = np.max(np.abs(got - want)) / max(np.max(np.abs(want)), 1.0)
+        if error > 1e-9:
+            raise ModelError(f"{system.model.source}: {name}(v) is not quadratic in speed "
+                             f"(relative error {error:.2e} at {_CHECK_SPEED} m/s)")
+    return result

@@ -1,0 +1,221 @@
+"""Vehicle description: bodies, joints, wheels, built from a YAML file or a dict.
+
+A body is rigid (mass [kg], centre of mass [m] and inertia tensor about it [kg m^2], all in the
+reference configuration, REP-103 axes). A body may be given as named ``parts`` that are combined
+with the parallel-axis theorem. A massless body (mass 0, as the lumped-stiffness variants use
+between wheel carrier and wheel) is allowed: the engine works in descriptor form. Joints are
+fixed, revolute (any axis through any point) or prismatic, with optional rotational spring and
+damper. Wheels roll on a toroidal tyre (rolling radius r, crown radius r_c).
+"""
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from motoflex_ros.config import load_yaml, validate
+from motoflex_ros.errors import ConfigError
+from motoflex_ros.vehicle.schema import VEHICLE_SCHEMA
+from motoflex_ros.vehicle.tyre import tyre_from_config
+
+__all__ = ["Body", "Joint", "Wheel", "VehicleModel", "load_vehicle", "vehicle_from_dict",
+           "inertia_matrix", "check_inertia", "combine_parts"]
+
+
+@dataclass(frozen=True)
+class Body:
+    """Rigid body: mass [kg], com [m] and inertia [kg m^2] about the com (reference config)."""
+
+    name: str
+    mass: float
+    com: np.ndarray
+    inertia: np.ndarray
+
+
+@dataclass(frozen=True)
+class Joint:
+    """Joint between parent and child body; axis is a unit vector, point [m] on the axis.
+
+    kind 'revolute' or 'prismatic' adds one coordinate, 'fixed' none. stiffness [N m/rad]
+    (or [N/m]) and damping [N m s/rad] act on the joint coordinate.
+    """
+
+    name: str
+    kind: str
+    parent: str
+    child: str
+    axis: np.ndarray
+    point: np.ndarray
+    stiffness: float = 0.0
+    damping: float = 0.0
+
+
+@dataclass(frozen=True)
+class Wheel:
+    """Wheel spinning about ``axis`` through ``centre`` on its carrier body.
+
+    radius r [m] (rolling radius in the reference configuration), crown_radius r_c [m] of the
+    tyre cross-section, mass [kg], diametral and spin inertia [kg m^2], tyre a LinearTyre or
+    None for a knife-edge wheel rolling without slip.
+    """
+
+    name: str
+    carrier: str
+    centre: np.ndarray
+    axis: np.ndarray
+    radius: float
+    crown_radius: float
+    mass: float
+    diametral_inertia: float
+    spin_inertia: float
+    tyre: object = None
+
+
+@dataclass(frozen=True)
+class VehicleModel:
+    """A complete vehicle description (see module docstring); roles map 'steer' etc. to joints."""
+
+    name: str
+    source: str
+    gravity: float
+    root: str
+    bodies: tuple
+    joints: tuple
+    wheels: tuple
+    roles: dict = field(default_factory=dict)
+    flex: dict = field(default_factory=dict)
+
+    def body(self, name):
+        """The body called ``name``."""
+        return next(b for b in self.bodies if b.name == name)
+
+    def total_mass(self):
+        """Sum of body and wheel masses [kg]."""
+        return sum(b.mass for b in self.bodies) + sum(w.mass for w in self.wheels)
+
+    def centre_of_mass(self):
+        """Centre of mass of the whole vehicle [m], reference configuration."""
+        moment = sum(b.mass * b.com for b in self.bodies) + sum(w.mass * w.centre
+                                                              for w in self.wheels)
+        return moment / self.total_mass()
+
+
+def inertia_matrix(spec):
+    """3x3 inertia tensor [kg m^2] from a mapping xx, yy, zz, xy, xz, yz (tensor entries)."""
+    xy, xz, yz = spec.get("xy", 0.0), spec.get("xz", 0.0), spec.get("yz", 0.0)
+    return np.array([[spec["xx"], xy, xz], [xy, spec["yy"], yz], [xz, yz, spec["zz"]]], float)
+
+
+def check_inertia(tensor, source, key):
+    """Raise ConfigError unless the tensor is positive definite with principal moments that
+    satisfy the triangle inequality (I1 + I2 >= I3 for every ordering)."""
+    moments = np.linalg.eigvalsh(tensor)
+    if moments[0] <= 0.0:
+        raise ConfigError(source, key, "inertia tensor is not positive definite (principal "
+                                       f"moments {np.round(moments, 6).tolist()} kg m^2)")
+    if moments[0] + moments[1] < moments[2] * (1.0 - 1e-9):
+        raise ConfigError(source, key, "inertia tensor violates the triangle inequality "
+                                       f"(principal moments {np.round(moments, 6).tolist()}: "
+                                       "I1 + I2 must be >= I3)")
+
+
+def combine_parts(parts, source, key):
+    """Mass [kg], com [m] and inertia about the com [kg m^2] of named parts (parallel axis)."""
+    mass = sum(p["mass"] for p in parts.values())
+    com = sum(p["mass"] * np.asarray(p["com"]) for p in parts.values()) / mass
+    inertia = np.zeros((3, 3))
+    for name, part in parts.items():
+        own = inertia_matrix(part["inertia"])
+        check_inertia(own, source, f"{key}.parts.{name}.inertia")
+        d = np.asarray(part["com"]) - com
+        inertia += own + part["mass"] * ((d @ d) * np.eye(3) - np.outer(d, d))
+    return mass, com, inertia
+
+
+def _body(name, spec, source):
+    key = f"bodies.{name}"
+    if spec["parts"]:
+        mass, com, inertia = combine_parts(spec["parts"], source, key)
+    else:
+        for needed in ("mass", "com", "inertia"):
+            if spec[needed] is None:
+                raise ConfigError(source, f"{key}.{needed}", "missing (give mass, com and "
+                                                             "inertia, or parts)")
+        mass, com = spec["mass"], np.asarray(spec["com"], float)
+        inertia = inertia_matrix(spec["inertia"])
+        if mass > 0.0 or np.any(inertia):
+            check_inertia(inertia, source, f"{key}.inertia")
+    return Body(name, float(mass), np.asarray(com, float), inertia)
+
+
+def _unit_axis(vector, source, key):
+    vector = np.asarray(vector, float)
+    length = float(np.sqrt(vector @ vector))
+    if length < 1e-12:
+        raise ConfigError(source, key, "axis has zero length; give a non-zero direction")
+    return vector / length
+
+
+def _joint(name, spec, bodies, source):
+    key = f"joints.{name}"
+    for end in ("parent", "child"):
+        if spec[end] not in bodies:
+            raise ConfigError(source, f"{key}.{end}", f"unknown body '{spec[end]}' "
+                                                      f"(bodies: {', '.join(bodies)})")
+    return Joint(name, spec["type"], spec["parent"], spec["child"],
+                 _unit_axis(spec["axis"], source, f"{key}.axis"),
+                 np.asarray(spec["point"], float), spec["stiffness"], spec["damping"])
+
+
+def _static_loads(bodies, wheel_specs, gravity):
+    """Static vertical wheel loads [N] of a two-wheeler from the moment balance in x-z."""
+    masses = [(b.mass, b.com[0]) for b in bodies.values()]
+    masses += [(w["mass"], w["centre"][0]) for w in wheel_specs.values()]
+    weight = gravity * sum(m for m, _ in masses)
+    moment = gravity * sum(m * x for m, x in masses)
+    (name_a, wa), (name_b, wb) = wheel_specs.items()
+    xa, xb = wa["centre"][0], wb["centre"][0]
+    load_b = (moment - weight * xa) / (xb - xa)
+    return {name_a: weight - load_b, name_b: load_b}
+
+
+def _wheels(spec, bodies, source, gravity):
+    specs = spec["wheels"]
+    if len(specs) != 2:
+        raise ConfigError(source, "wheels", f"expected 2 wheels, got {len(specs)}")
+    loads = _static_loads(bodies, specs, gravity)
+    wheels = []
+    for name, w in specs.items():
+        key = f"wheels.{name}"
+        if w["carrier"] not in bodies:
+            raise ConfigError(source, f"{key}.carrier", f"unknown body '{w['carrier']}'")
+        if w["crown_radius"] >= w["radius"]:
+            raise ConfigError(source, f"{key}.crown_radius",
+                              f"crown radius {w['crown_radius']:g} m must be below the wheel "
+                              f"radius {w['radius']:g} m")
+        tyre = tyre_from_config(w["tyre"], source, f"{key}.tyre", loads[name], w["crown_radius"])
+        wheels.append(Wheel(name, w["carrier"], np.asarray(w["centre"], float),
+                            _unit_axis(w["axis"], source, f"{key}.axis"), w["radius"],
+                            w["crown_radius"], w["mass"], w["inertia"]["diametral"],
+                            w["inertia"]["spin"], tyre))
+    return tuple(wheels)
+
+
+def vehicle_from_dict(data, source="<dict>"):
+    """Validate a vehicle description (a dict shaped like the YAML) and build the model."""
+    spec = validate(data, VEHICLE_SCHEMA, source)
+    bodies = {name: _body(name, b, source) for name, b in spec["bodies"].items()}
+    if spec["root"] not in bodies:
+        raise ConfigError(source, "root", f"unknown body '{spec['root']}'")
+    joints = tuple(_joint(n, j, bodies, source) for n, j in spec["joints"].items())
+    for role, joint in spec["roles"].items():
+        if joint not in {j.name for j in joints}:
+            raise ConfigError(source, f"roles.{role}", f"unknown joint '{joint}'")
+    wheels = _wheels(spec, bodies, source, spec["gravity"])
+    return VehicleModel(spec["name"], str(source), spec["gravity"], spec["root"],
+                        tuple(bodies.values()), joints, wheels, dict(spec["roles"]),
+                        dict(spec["flex"]))
+
+
+def load_vehicle(path):
+    """Load and validate config/vehicles/<name>.yaml (a path) into a VehicleModel."""
+    return vehicle_from_dict(load_yaml(path), Path(path))

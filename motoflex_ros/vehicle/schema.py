@@ -1,0 +1,88 @@
+"""YAML schema of a vehicle description (config/vehicles/*.yaml).
+
+Lengths in m, masses in kg, inertias in kg m^2 (tensor entries about the centre of mass in the
+reference configuration, REP-103 axes, so a product entry is -integral(x z dm)), stiffness in
+N m/rad, damping in N m s/rad, gravity in m/s^2.
+"""
+from motoflex_ros.config import Field, number, positive
+
+__all__ = ["VEHICLE_SCHEMA", "TYRE_SCHEMAS"]
+
+_INERTIA = Field("mapping", fields={
+    "xx": positive(), "yy": positive(), "zz": positive(),
+    "xy": number(required=False, default=0.0), "xz": number(required=False, default=0.0),
+    "yz": number(required=False, default=0.0),
+}, help="mapping xx, yy, zz [, xy, xz, yz] [kg m^2]")
+
+_PART = Field("mapping", fields={
+    "mass": positive(help="mass [kg]"),
+    "com": Field("vec3"),
+    "inertia": _INERTIA,
+    "source": Field("str", required=False, default=""),
+})
+
+_BODY = Field("mapping", fields={
+    "mass": number(0.0, required=False, help="mass [kg]"),
+    "com": Field("vec3", required=False),
+    "inertia": Field("mapping", required=False, fields=_INERTIA.fields),
+    "parts": Field("mapping", required=False, extra=True, item=_PART),
+    "source": Field("str", required=False, default=""),
+})
+
+_JOINT = Field("mapping", fields={
+    "type": Field("str", choices=("revolute", "prismatic", "fixed")),
+    "parent": Field("str"),
+    "child": Field("str"),
+    "axis": Field("vec3", required=False, default=[1.0, 0.0, 0.0]),
+    "point": Field("vec3", required=False, default=[0.0, 0.0, 0.0]),
+    "stiffness": number(0.0, required=False, default=0.0, help="[N m/rad]"),
+    "damping": number(0.0, required=False, default=0.0, help="[N m s/rad]"),
+    "source": Field("str", required=False, default=""),
+})
+
+_WHEEL = Field("mapping", fields={
+    "carrier": Field("str"),
+    "centre": Field("vec3"),
+    "axis": Field("vec3", required=False, default=[0.0, 1.0, 0.0]),
+    "radius": positive(help="rolling radius [m]"),
+    "crown_radius": number(0.0, required=False, default=0.0, help="[m], below radius"),
+    "mass": positive(),
+    "inertia": Field("mapping", fields={"diametral": positive(), "spin": positive()}),
+    "tyre": Field("mapping", extra=True, fields={
+        "model": Field("str", choices=("knife_edge", "linear", "magic_formula"))}),
+    "source": Field("str", required=False, default=""),
+})
+
+VEHICLE_SCHEMA = Field("mapping", fields={
+    "name": Field("str"),
+    "description": Field("str", required=False, default=""),
+    "gravity": positive(required=False, default=9.81, help="[m/s^2]"),
+    "root": Field("str", help="name of the floating-base body"),
+    "roles": Field("mapping", required=False, default={}, extra=True, item=Field("str")),
+    "bodies": Field("mapping", extra=True, item=_BODY, min_items=1),
+    "joints": Field("mapping", required=False, default={}, extra=True, item=_JOINT),
+    "wheels": Field("mapping", extra=True, item=_WHEEL),
+    "flex": Field("mapping", required=False, default={}, extra=True,
+                  help="reserved for lumped/flexible variants (added by the accuracy issue)"),
+})
+
+_RELAXATION = {"relaxation_length": positive(help="[m]")}
+
+TYRE_SCHEMAS = {
+    "knife_edge": Field("mapping", fields={"model": Field("str")}),
+    "linear": Field("mapping", fields={
+        "model": Field("str"),
+        "cornering_stiffness": positive(help="[N/rad]"),
+        "camber_stiffness": number(0.0, required=False, default=0.0, help="[N/rad]"),
+        "aligning_stiffness": number(required=False, default=0.0, help="[N m/rad]"),
+        "twisting_stiffness": number(required=False, default=0.0, help="[N m/rad]"),
+        **_RELAXATION,
+    }),
+    "magic_formula": Field("mapping", extra=True, item=number(), fields={
+        "model": Field("str"),
+        "Fz0": positive(help="nominal load [N]"),
+        "relaxation_a": positive(help="lateral compliance coefficient [m/N]"),
+        "relaxation_b": number(help="[s/N]"),
+        "relaxation_c": number(help="[s^2/(m N)]"),
+    }),
+}
