@@ -1,0 +1,78 @@
+"""The campaign process's own node: sees nodes come up, follows /clock, collects results."""
+import time
+
+from rclpy.node import Node
+from rosgraph_msgs.msg import Clock
+from std_msgs.msg import String
+
+from motoflex_ros.launcher.graph import NodeDied
+from motoflex_ros.nodes.conversions import time_ns
+from motoflex_ros.nodes.runtime import READY_TOPIC, FastSpinner, latched_qos, reliable_qos
+
+__all__ = ["Monitor"]
+
+
+class Monitor(Node):
+    """Watches a running graph from the launching process."""
+
+    def __init__(self, context, names, collect=()):
+        super().__init__("motoflex_monitor", context=context)
+        self.names = frozenset(names)
+        self.ready = set()
+        self.sim_ns = 0
+        self.collected = {topic: [] for topic, _ in collect}
+        self.create_subscription(String, READY_TOPIC, lambda m: self.ready.add(m.data),
+                                 latched_qos())
+        self.create_subscription(Clock, "/clock", self._on_clock, 1)  # progress only
+        for topic, msg_type in collect:
+            self.create_subscription(msg_type, topic, self.collected[topic].append,
+                                     reliable_qos())
+        self.spinner = FastSpinner(self)
+        self.check_sequence = lambda sub, info: None
+
+    def _on_clock(self, msg):
+        self.sim_ns = max(self.sim_ns, time_ns(msg.clock))
+
+    def wait_ready(self, graph, pacer, timeout):
+        """Wait until every node announced itself on /rig/ready (or the pacer already ended)."""
+        deadline = time.monotonic() + timeout
+        while not self.names <= self.ready and pacer not in graph.exited():
+            graph.check_alive(allowed=(pacer,))
+            if time.monotonic() > deadline:
+                missing = ", ".join(sorted(self.names - self.ready))
+                raise NodeDied(f"nodes not up after {timeout:g} s: {missing}")
+            self.spinner.spin_once(0.1)
+
+    def follow(self, graph, pacer, duration_s, progress):
+        """Spin until the pacing node exits; a progress bar over simulated time."""
+        from motoflex_ros.launcher.run import pacer_failed
+        bar = _progress_bar(duration_s) if progress else None
+        try:
+            while True:
+                self.spinner.spin_once(0.1)
+                if bar is not None:
+                    bar.update(round(self.sim_ns / 1e9, 3) - bar.n)
+                code = graph.exited().get(pacer)
+                if code is not None:
+                    if code != 0:
+                        raise pacer_failed(graph, pacer, code)
+                    return
+                graph.check_alive(allowed=(pacer,))
+        finally:
+            if bar is not None:
+                bar.close()
+
+    def drain(self, graph, pacer, timeout):
+        """Handle what is still in flight after the pacer ended (short quiet period)."""
+        deadline = time.monotonic() + timeout
+        quiet = 0
+        while quiet < 3 and time.monotonic() < deadline:
+            quiet = quiet + 1 if self.spinner.spin_once(0.1) == 0 else 0
+            graph.check_alive(allowed=(pacer,))
+
+
+def _progress_bar(duration_s):
+    from tqdm import tqdm
+    return tqdm(total=round(duration_s, 3), unit="sim s", desc="campaign",
+                bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} sim s "
+                           "[{elapsed}<{remaining}]")

@@ -1,0 +1,94 @@
+"""Run a node graph to its end: start, wait until every node is up, show progress, stop.
+
+The run ends when the pacing node (``sim_clock``, or ``bag_replay``) exits 0. A node that dies,
+a pacing node that fails, SIGINT or SIGTERM stop every node (recorder last, so that it finishes
+the bag) and raise :class:`RunFailed` / :class:`RunInterrupted` naming what happened.
+"""
+import os
+import signal
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from motoflex_ros.errors import MotoflexError
+from motoflex_ros.launcher.domain import DomainLock
+from motoflex_ros.launcher.graph import NodeDied, NodeGraph, describe_exit
+
+__all__ = ["RunFailed", "RunInterrupted", "RunResult", "run_graph"]
+
+
+class RunFailed(MotoflexError):
+    """The run could not finish (a node died, did not come up, or failed)."""
+
+
+class RunInterrupted(MotoflexError):
+    """The run was stopped by SIGINT or SIGTERM."""
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """Outcome of a run: domain id, wall time [s], exit codes, and what the monitor saw."""
+
+    domain_id: int
+    wall_s: float
+    exit_codes: dict
+    collected: dict
+
+
+def _raise_on_sigterm(signum, frame):
+    raise KeyboardInterrupt("SIGTERM")
+
+
+def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=False,
+              ready_timeout=60.0, drain_timeout=30.0):
+    """Run ``specs`` until ``pacer`` exits 0; returns a :class:`RunResult`.
+
+    ``collect``: (topic, msg_type) pairs whose messages the monitor keeps (``collected``).
+    """
+    work_dir = Path(work_dir or tempfile.mkdtemp(prefix="motoflex_run_"))
+    previous = signal.signal(signal.SIGTERM, _raise_on_sigterm)
+    start = time.monotonic()
+    try:
+        with DomainLock() as lock:
+            graph = NodeGraph(specs, lock.domain_id, work_dir).start()
+            try:
+                collected = _monitor(graph, pacer, duration_s, collect, progress,
+                                     ready_timeout, drain_timeout)
+            except BaseException:
+                graph.stop()
+                raise
+            codes = graph.stop()
+    except KeyboardInterrupt as exc:
+        what = str(exc) or "SIGINT"
+        raise RunInterrupted(f"interrupted by {what}; every node stopped "
+                             f"(logs: {work_dir / 'log'})") from None
+    except NodeDied as exc:
+        raise RunFailed(str(exc)) from None
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    return RunResult(lock.domain_id, time.monotonic() - start, codes, collected)
+
+
+def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, drain_timeout):
+    import rclpy
+    from rclpy.signals import SignalHandlerOptions
+
+    from motoflex_ros.launcher.monitor import Monitor
+    os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+    context = rclpy.Context()
+    rclpy.init(args=[], context=context, domain_id=graph.domain_id,
+               signal_handler_options=SignalHandlerOptions.NO)
+    try:
+        monitor = Monitor(context, [s.name for s in graph.specs], collect)
+        monitor.wait_ready(graph, pacer, ready_timeout)
+        monitor.follow(graph, pacer, duration_s, progress)
+        monitor.drain(graph, pacer, drain_timeout)
+        return monitor.collected
+    finally:
+        rclpy.try_shutdown(context=context)
+
+
+def pacer_failed(graph, pacer, code):
+    """RunFailed for a pacing node that ended with ``code``."""
+    return RunFailed(f"node '{pacer}' failed ({describe_exit(code)}): {graph.log_tail(pacer)}")
