@@ -58,6 +58,10 @@ setup(
     entry_points={
         "console_scripts": [
             "motoflex = motoflex_ros.cli.main:main",
+            # ROS nodes (ros2 run motoflex_ros NAME): see motoflex_ros/nodes/
+            "sim_clock = motoflex_ros.nodes.sim_clock:main",
+            "recorder = motoflex_ros.nodes.recorder:main",
+            "bag_replay = motoflex_ros.nodes.bag_replay:main",
         ],
     },
 )
