@@ -1,0 +1,39 @@
+"""Accuracy of a lumped model against the flexible one over speed, eq. (18).
+
+Passigato et al. 2023, Sect. 5.2: e_RMS% of the frequency or the real part of weave or wobble
+between 40 and 210 km/h. The mean of the flexible curve is taken in absolute value: real parts
+of stable modes are negative and the paper's errors (Fig. 8) are positive percentages.
+"""
+import numpy as np
+
+from motoflex_ros.errors import ModelError
+
+__all__ = ["rms_error_percent"]
+
+
+def rms_error_percent(lumped, flexible, axis=-1):
+    """Eq. (18): e_RMS% = sqrt(mean((x_lu - x_fl)^2)) / |mean(x_fl)| * 100 [%].
+
+    Parameters
+    ----------
+    lumped, flexible : array (..., speeds)
+        The same quantity (frequency [Hz] or real part [1/s]) of the lumped and the flexible
+        model on the same N speeds; leading axes are batches (runs, modes, ...).
+    axis : int
+        The speed axis.
+
+    Returns
+    -------
+    array (...)
+        e_RMS% per batch entry; inf where the flexible mean is zero.
+
+    """
+    lumped = np.asarray(lumped, dtype=float)
+    flexible = np.asarray(flexible, dtype=float)
+    if lumped.shape != flexible.shape:
+        raise ModelError(f"lumped curve {lumped.shape} and flexible curve {flexible.shape} "
+                         "must be on the same speeds")
+    rms = np.sqrt(np.mean((lumped - flexible) ** 2, axis=axis))
+    mean = np.abs(np.mean(flexible, axis=axis))
+    with np.errstate(divide="ignore"):
+        return np.where(mean > 0, 100.0 * rms / np.where(mean > 0, mean, 1.0), np.inf)

@@ -1,0 +1,65 @@
+"""The sensitivity analysis of Sect. 4.3 / 5.3 from tracked weave and wobble curves.
+
+Given a design and, per run, the weave and wobble eigenvalues over speed, computes the four
+stability indices (weave/wobble x low/high speed, eqs. 13-15), the ANOVA main-effect share of
+each and the Pearson coefficient of each factor with each index (eqs. 16-17).
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from motoflex_ros.study.anova import anova
+from motoflex_ros.study.correlation import pearson_table
+from motoflex_ros.study.stability_index import stability_index
+
+__all__ = ["MODES", "RANGES", "SensitivityResult", "stability_indices", "analyse_sensitivity"]
+
+MODES = ("weave", "wobble")
+RANGES = ("low", "high")
+
+
+def stability_indices(speeds, curves, modes=MODES, ranges=RANGES):
+    """{"<mode>_<range>": StabilityIndex} from {mode: eigenvalues (runs, speeds)}.
+
+    ``speeds`` [m/s]; the curves may be complex eigenvalues or real parts [1/s].
+    """
+    return {f"{mode}_{name}": stability_index(speeds, np.real(curves[mode]), name)
+            for mode in modes for name in ranges}
+
+
+@dataclass(frozen=True, eq=False)
+class SensitivityResult:
+    """nominal: {factor: value} [N m/rad]; indices: {index: StabilityIndex};
+    anova: {index: AnovaResult}; pearson: {index: {factor: rho}}.
+    """
+
+    nominal: dict
+    indices: dict
+    anova: dict
+    pearson: dict
+
+    @property
+    def anova_main_share(self):
+        """Share of each index's variance due to main effects [-]."""
+        return {name: result.main_share for name, result in self.anova.items()}
+
+    def to_dict(self):
+        """The JSON shape of ``motoflex study sensitivity --json`` (issue 7)."""
+        return {"nominal": dict(self.nominal),
+                "indices": {name: index.s.tolist() for name, index in self.indices.items()},
+                "anova_main_share": self.anova_main_share,
+                "pearson": self.pearson}
+
+
+def analyse_sensitivity(design, speeds, curves):
+    """Indices, ANOVA (main effects + two-factor interactions) and Pearson for a design.
+
+    ``design`` is a factorial Design; ``curves`` maps "weave" and "wobble" to eigenvalues
+    (runs, speeds) [1/s] on ``speeds`` [m/s], runs in design order.
+    """
+    indices = stability_indices(speeds, curves)
+    responses = {name: index.s for name, index in indices.items()}
+    return SensitivityResult(
+        nominal=design.nominal_values(), indices=indices,
+        anova={name: anova(design.coded, s, design.factors) for name, s in responses.items()},
+        pearson=pearson_table(design, responses))
