@@ -1,0 +1,37 @@
+"""``motoflex bag info PATH`` and ``motoflex bag repair PATH``: inspect and salvage bags."""
+from motoflex_ros.cli.output import emit_json, print_table
+
+__all__ = ["register", "run"]
+
+
+def register(subparsers):
+    """Add the ``bag`` verb."""
+    parser = subparsers.add_parser(
+        "bag", help="inspect a recorded bag, or repair one whose recorder was killed",
+        description="info: topics, types and message counts of a rosbag2 MCAP bag. repair: "
+                    "salvage a bag whose recorder was killed (up to its last complete chunk) "
+                    "and rewrite it as a valid bag with correct metadata.yaml.")
+    parser.add_argument("action", choices=("info", "repair"))
+    parser.add_argument("path", help="bag directory (or its .mcap file)")
+    parser.add_argument("--json", action="store_true", help="machine-readable output")
+    parser.set_defaults(func=run)
+
+
+def run(args):
+    """Print the bag's summary (after repairing it for ``repair``)."""
+    from motoflex_ros.record.mcap_bag import bag_info, repair
+    info = repair(args.path) if args.action == "repair" else bag_info(args.path)
+    summary = {"path": str(info.path), "mcap_file": str(info.mcap_file),
+               "message_count": info.message_count, "start_ns": info.start_ns,
+               "duration_s": info.duration_ns / 1e9,
+               "topics": [{"name": t.name, "type": t.type, "count": t.count}
+                          for t in info.topics]}
+    if args.json:
+        emit_json(summary)
+        return 0
+    verb = "repaired" if args.action == "repair" else "bag"
+    print(f"{verb}: {info.path}  ({info.message_count} messages, "
+          f"{info.duration_ns / 1e9:.3f} s)")
+    print_table(("topic", "type", "messages"),
+                [(t.name, t.type, t.count) for t in info.topics])
+    return 0
