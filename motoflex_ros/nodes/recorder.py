@@ -75,8 +75,11 @@ class Recorder(RigNode):
             self.processed(clock_ns_from_cdr(data))
 
     def inputs_ready(self):
-        """Ready when every listed topic is subscribed and sees a publisher."""
-        return all(t in self.recorded for t in self.wanted) and super().inputs_ready()
+        """Ready when every listed topic (discovery mode: at least one topic) is subscribed
+        and sees a publisher.
+        """
+        listed = all(t in self.recorded for t in self.wanted) if self.wanted else self.recorded
+        return bool(listed) and super().inputs_ready()
 
     def step(self, spinner):
         """Record what arrived; look for new topics now and then."""

@@ -1,0 +1,174 @@
+"""Real node processes: parameter errors, recorder signals, repair after SIGKILL, domain isolation.
+
+Each test holds its own ROS_DOMAIN_ID (DomainLock), logs to tmp, and ends the processes it
+started by their own pid.
+"""
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+pytest.importorskip("rclpy")
+from rosbags.highlevel import AnyReader  # noqa: E402
+
+from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
+from motoflex_ros.launcher.graph import ros_env  # noqa: E402
+from motoflex_ros.record import mcap_bag  # noqa: E402
+
+pytestmark = pytest.mark.ros
+
+
+@pytest.fixture
+def env(tmp_path):
+    with DomainLock() as lock:
+        yield ros_env(lock.domain_id, tmp_path / "log")
+
+
+def _node(name, env, *params, params_file=None, **popen):
+    cmd = [sys.executable, "-m", f"motoflex_ros.nodes.{name}", "--ros-args"]
+    for p in params:
+        cmd += ["-p", p]
+    if params_file:
+        cmd += ["--params-file", str(params_file)]
+    return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, **popen)
+
+
+def _end(*procs):
+    for proc in procs:
+        if proc.poll() is None:
+            os.kill(proc.pid, signal.SIGKILL)
+        proc.communicate(timeout=10)
+
+
+def _wait_for_file_size(path, size, proc, timeout=30.0):
+    deadline = time.monotonic() + timeout
+    while not (path.exists() and path.stat().st_size > size):
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() < deadline, f"{path} did not grow"
+        time.sleep(0.1)
+
+
+def _clock_times(bag):
+    with AnyReader([bag]) as reader:
+        return [m.clock.sec * 10**9 + m.clock.nanosec
+                for conn, _, raw in reader.messages()
+                for m in [reader.deserialize(raw, conn.msgtype)]]
+
+
+@pytest.mark.parametrize("content, expected", [
+    ("sim_clock:\n  ros__parameters:\n    window: 0\n",
+     "parameter 'window' = 0 is not allowed (expected int in [1, 1e+06])"),
+    ("/**:\n  ros__parameters:\n    dt: 1.0e-3\n    windw: 5\n",
+     "unknown parameter 'windw' (known: ack_from, dt, duration, stall_timeout, wait_for, "
+     "window)"),
+    ("sim_clock:\n  ros__parameters:\n    dt: 'fast'\n", "parameter 'dt' has the wrong type"),
+])
+def test_nodes_params_file_bad_value_clear_error(tmp_path, env, content, expected):
+    params = tmp_path / "params.yaml"
+    params.write_text(content)
+    proc = _node("sim_clock", env, params_file=params)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 2, (out, err)
+    assert expected in err
+    assert "Traceback" not in err
+
+
+def test_nodes_params_file_missing_nonzero(tmp_path, env):
+    proc = _node("sim_clock", env, params_file=tmp_path / "nope.yaml")
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode != 0
+    assert "nope.yaml" in err
+
+
+def test_recorder_existing_bag_clear_error(tmp_path, env):
+    (tmp_path / "bag").mkdir()
+    (tmp_path / "bag" / "other.txt").write_text("keep me")
+    proc = _node("recorder", env, f"bag:={tmp_path / 'bag'}")
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 2 and "exists and is not an empty directory" in err
+    assert sorted(p.name for p in (tmp_path / "bag").iterdir()) == ["other.txt"]
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_recorder_finishes_bag_on_signal_roundtrip(tmp_path, env, signum):
+    bag = tmp_path / "bag"
+    recorder = _node("recorder", env, f"bag:={bag}", "topics:=['/clock']", "ack:=true",
+                     "chunk_size:=4096")
+    clock = _node("sim_clock", env, "dt:=0.001", "duration:=1000.0", "window:=20",
+                  "ack_from:=['recorder']", "stall_timeout:=60.0")
+    try:
+        _wait_for_file_size(bag / "bag_0.mcap", 20000, recorder)
+        os.kill(recorder.pid, signum)
+        out, err = recorder.communicate(timeout=30)
+        assert recorder.returncode == 0, err
+    finally:
+        _end(recorder, clock)
+    info = mcap_bag.bag_info(bag)
+    times = _clock_times(bag)
+    assert info.count("/clock") == len(times) > 100
+    assert times == [1_000_000 * k for k in range(len(times))]  # lock-step: no gap, in order
+    assert f"({signal.Signals(signum).name})" in err
+
+
+def test_recorder_sigkill_then_bag_repair_roundtrip(tmp_path, env):
+    bag = tmp_path / "bag"
+    recorder = _node("recorder", env, f"bag:={bag}", "topics:=['/clock']", "ack:=true",
+                     "chunk_size:=4096")
+    clock = _node("sim_clock", env, "dt:=0.001", "duration:=1000.0", "window:=20",
+                  "ack_from:=['recorder']", "stall_timeout:=60.0")
+    try:
+        _wait_for_file_size(bag / "bag_0.mcap", 30000, recorder)
+        os.kill(recorder.pid, signal.SIGKILL)
+        recorder.communicate(timeout=30)
+    finally:
+        _end(recorder, clock)
+    with pytest.raises(mcap_bag.BagError, match="motoflex bag repair"):
+        mcap_bag.bag_info(bag)
+    cli = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "bag", "repair",
+                          str(bag), "--json"], capture_output=True, text=True, timeout=60)
+    assert cli.returncode == 0, cli.stderr
+    times = _clock_times(bag)
+    assert len(times) > 100 and times == [1_000_000 * k for k in range(len(times))]
+    assert mcap_bag.bag_info(bag).count("/clock") == len(times)
+
+
+def test_bag_cli_not_a_bag_clear_error(tmp_path):
+    (tmp_path / "file.txt").write_text("x")
+    for argv in (["bag", "info", str(tmp_path / "file.txt")], ["bag", "repair", str(tmp_path)],
+                 ["replay", str(tmp_path / "missing")]):
+        cli = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", *argv],
+                             capture_output=True, text=True, timeout=60)
+        assert cli.returncode == 2, argv
+        assert "not a bag" in cli.stderr and "Traceback" not in cli.stderr
+    assert [p.name for p in tmp_path.iterdir()] == ["file.txt"]
+
+
+def test_ros_domains_isolated(tmp_path):
+    """Two graphs at once on two domain ids: each bag holds only its own clock."""
+    runs = []
+    with DomainLock() as a, DomainLock() as b:
+        assert a.domain_id != b.domain_id
+        for lock, duration in ((a, 0.5), (b, 0.8)):
+            env = ros_env(lock.domain_id, tmp_path / f"log{lock.domain_id}")
+            bag = tmp_path / f"bag{lock.domain_id}"
+            recorder = _node("recorder", env, f"bag:={bag}", "ack:=true")  # records all topics
+            clock = _node("sim_clock", env, "dt:=0.001", f"duration:={duration}",
+                          "window:=20", "ack_from:=['recorder']")
+            runs.append((bag, duration, recorder, clock))
+        try:
+            for _bag, _duration, recorder, clock in runs:
+                assert clock.wait(timeout=120) == 0, clock.communicate()
+                os.kill(recorder.pid, signal.SIGINT)
+                assert recorder.wait(timeout=30) == 0
+        finally:
+            for run in runs:
+                _end(*run[2:])
+    for bag, duration, *_ in runs:
+        info = mcap_bag.bag_info(bag)
+        assert [t.name for t in info.topics] == ["/clock"]
+        steps = round(duration / 0.001) + 1
+        assert _clock_times(bag) == [1_000_000 * k for k in range(steps)]
