@@ -3,7 +3,9 @@
 Every generalised coordinate q_k moves one frame relative to its parent frame (frame 0 is the
 ground, coordinate k creates frame k + 1): prismatic along a unit axis, or revolute about a unit
 axis through a point, both given in the reference configuration. The floating base is the chain
-x, y, z (prismatic along the ground axes), yaw (z), roll (x), pitch (y) about the origin. A pose
+x, y, z, yaw (z), roll (x), pitch (y) about the origin; x and y are quasi-coordinates whose
+speeds are the forward and lateral velocity in the heading frame (the ground axes yawed by the
+yaw angle), so that x, y and yaw are cyclic under the symmetry of flat ground. A pose
 maps reference positions to current ones, x = R x_ref + t. Twists are (omega, v_O): angular
 velocity and velocity of the frame-fixed point at the world origin, so a point x moves with
 v = v_O + omega x x; bias accelerations are the twist derivatives at zero generalised
@@ -25,7 +27,8 @@ _BASE_AXES = ((1, 0, 0), (0, 1, 0), (0, 0, 1), (0, 0, 1), (1, 0, 0), (0, 1, 0))
 
 @dataclass(frozen=True)
 class Coordinate:
-    """One generalised coordinate: kind 'prismatic' or 'revolute', group 'base', 'joint' or
+    """One generalised coordinate: kind 'prismatic', 'revolute' or 'heading' (base x, y: a
+    translation along a heading-frame axis), group 'base', 'joint' or
     'spin'; stiffness [N m/rad] and damping [N m s/rad] of a spring/damper acting on it."""
 
     name: str
@@ -84,8 +87,9 @@ class FrameState:
 
 def _base_coordinates():
     zero = np.zeros(3)
-    return [Coordinate(name, "prismatic" if k < 3 else "revolute", "base", k,
-                       np.array(_BASE_AXES[k], float), zero) for k, name in enumerate(BASE_NAMES)]
+    kinds = ("heading", "heading", "prismatic", "revolute", "revolute", "revolute")
+    return [Coordinate(name, kinds[k], "base", k, np.array(_BASE_AXES[k], float), zero)
+            for k, name in enumerate(BASE_NAMES)]
 
 
 def _wheel_mass(wheel, frame):
@@ -133,9 +137,13 @@ def compile_tree(model):
     return Tree(tuple(coords), tuple(masses), dict(frames), tuple(wheel_frames))
 
 
-def _child_state(coord, k, parent, q, u):
+def _child_state(coord, k, parent, q, u, heading):
     a_w = parent.R @ coord.axis
     a_dot = cross(parent.w, a_w)
+    if coord.kind == "heading":
+        # translation along a heading-frame axis: the axis turns with the yaw rate
+        a_w = heading[0] @ coord.axis
+        a_dot = heading[1] * cross(np.array([0.0, 0.0, 1.0]), a_w)
     if coord.kind == "revolute":
         rel = rotation(coord.axis, q[k])
         R = parent.R @ rel
@@ -161,6 +169,8 @@ def frame_states(tree, q, u):
     zero3, zero_j = np.zeros(3, dtype), np.zeros((3, n), dtype)
     states = [FrameState(np.eye(3, dtype=dtype), zero3, zero3, zero3, zero3, zero3,
                          zero_j, zero_j)]
+    yaw = BASE_NAMES.index("yaw")
+    heading = (rotation(np.array([0.0, 0.0, 1.0]), q[yaw]), u[yaw])
     for k, coord in enumerate(tree.coordinates):
-        states.append(_child_state(coord, k, states[coord.parent_frame], q, u))
+        states.append(_child_state(coord, k, states[coord.parent_frame], q, u, heading))
     return states
