@@ -1,0 +1,23 @@
+"""``motoflex rerun BAG``: convert a recorded run into its rerun recording BAG/<run>.rrd."""
+from pathlib import Path
+
+__all__ = ["register", "run"]
+
+
+def register(subparsers):
+    parser = subparsers.add_parser(
+        "rerun", help="convert a recorded bag into a rerun recording (.rrd)",
+        description="Convert a recorded run (rosbag2 MCAP directory bags/<run>) into "
+                    "bags/<run>/<run>.rrd: bench components with loads, deformed shapes and "
+                    "deformation axes, identification, vehicle. Open it with 'motoflex view'.")
+    parser.add_argument("bag", type=Path, help="run folder bags/<run> (metadata.yaml + .mcap)")
+    parser.add_argument("--out", type=Path, default=None,
+                        help="output .rrd (default: <bag>/<run>.rrd)")
+    parser.set_defaults(func=run)
+
+
+def run(args):
+    from motoflex_ros.record.rerun_bag import convert_bag
+    path, topics = convert_bag(args.bag, args.out)
+    print(f"wrote {path} ({len(topics)} topics converted)")
+    return 0

@@ -1,0 +1,228 @@
+"""Convert a recorded run (rosbag2 MCAP directory) into a rerun recording bags/<run>/<run>.rrd.
+
+Reads the bag with :mod:`motoflex_ros.record.mcap_bag` and decodes the CDR messages with the
+rosbags type store (no rclpy needed), then logs with :mod:`.rerun_log` and
+:mod:`.rerun_vehicle`. Topics (issue 8):
+
+- /bench/<c>/load (geometry_msgs/WrenchStamped): load arrow and force series; with the
+  shipped component model <c> also the beam model deformed by the quasi-static expansion of the
+  recorded load, x = K^-1 f(t) on the clamped reduced model (exact for the quasi-static test,
+  the static part of the shape for harmonic tests; the recording says so).
+- /bench/<c>/pose (geometry_msgs/PoseStamped): loaded-end displacement series.
+- /bench/<c>/markers/true and /measured (geometry_msgs/PoseArray): marker points over time.
+- /identification/results (diagnostic_msgs/DiagnosticArray, one status per component and
+  test, KeyValue values): scalars, and the static/torsion/bending axes from l and beta.
+- /vehicle/joint_states (sensor_msgs/JointState), /vehicle/bodies (geometry_msgs/PoseArray),
+  visualization_msgs/Marker joint axes: the road test and the identified axes.
+
+Message times are the header stamps (simulated time) where a message has one, else the bag's
+log time; ``sim_time`` is measured from the bag's first message.
+"""
+import functools
+import re
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+import rerun as rr
+
+from motoflex_ros.errors import MotoflexError
+from motoflex_ros.record import rerun_log as rl
+from motoflex_ros.record import rerun_vehicle as rv
+from motoflex_ros.record.mcap_bag import bag_info, read_messages
+from motoflex_ros.record.rerun_blueprint import default_blueprint
+
+__all__ = ["convert_bag", "rrd_path_of", "BENCH_TOPIC", "decode"]
+
+BENCH_TOPIC = re.compile(r"^/bench/(?P<component>[^/]+)/(?P<what>load|pose|markers/true|"
+                         r"markers/measured)$")
+MAX_MARKER_FRAMES = 400
+
+
+@functools.cache
+def _typestore():
+    from rosbags.typesys import Stores, get_typestore
+    return get_typestore(Stores.ROS2_JAZZY)
+
+
+def decode(message):
+    """The rosbags message object of a :class:`~.mcap_bag.BagMessage` (CDR)."""
+    return _typestore().deserialize_cdr(message.data, message.type)
+
+
+def rrd_path_of(bag_dir):
+    """bags/<run>/<run>.rrd for the bag directory bags/<run>."""
+    bag_dir = Path(bag_dir)
+    return bag_dir / f"{bag_dir.name}.rrd"
+
+
+def _stamp_ns(msg, log_time_ns):
+    header = getattr(msg, "header", None)
+    if header is None:
+        return log_time_ns
+    ns = header.stamp.sec * 1_000_000_000 + header.stamp.nanosec
+    return ns if ns > 0 else log_time_ns
+
+
+def _collect(bag_dir):
+    """Messages grouped by topic: {topic: [(t_ns, msg), ...]} in recording order."""
+    grouped = defaultdict(list)
+    for message in read_messages(bag_dir):
+        msg = decode(message)
+        grouped[message.topic].append((_stamp_ns(msg, message.log_time_ns), msg))
+    return grouped
+
+
+def _times(samples, t0_ns):
+    return np.array([(t - t0_ns) * 1e-9 for t, _ in samples])
+
+
+def _vec(v):
+    return [v.x, v.y, v.z]
+
+
+def _quat(q):
+    return [q.x, q.y, q.z, q.w]
+
+
+@functools.cache
+def _model(component):
+    """(Component, ReducedComponent) of a shipped component name, or None."""
+    try:
+        from motoflex_ros.structures import load_component
+        comp = load_component(component)
+        return comp, comp.clamped_reduced()
+    except (MotoflexError, OSError, KeyError, ValueError):
+        return None
+
+
+def _static_shapes(reduced, forces):
+    """Quasi-static node translations (n_t, n_nodes, 3) [m] under end forces (n_t, 3) [N]."""
+    unit = np.column_stack([np.linalg.solve(reduced.K, reduced.end_load_vector(np.eye(6)[i]))
+                            for i in range(3)])
+    reduced_coords = np.asarray(forces, float) @ unit.T
+    return np.stack([reduced.node_displacements(x)[:, :3] for x in reduced_coords])
+
+
+def _log_bench_load(rec, component, samples, pose_samples, t0, model):
+    times = _times(samples, t0)
+    forces = np.array([_vec(m.wrench.force) for _, m in samples])
+    q0 = model[0].q0 if model else None
+    if pose_samples:
+        positions = np.array([_vec(m.pose.position) for _, m in pose_samples])
+        ref = q0 if q0 is not None else positions[0]
+        pose_times, displacement = _times(pose_samples, t0), positions - ref
+    else:
+        pose_times, displacement = times, np.full((len(times), 3), np.nan)
+    load_xyz = q0 if q0 is not None else np.zeros(3)
+    rl.log_load(rec, component, times, forces, load_xyz, displacement, pose_times)
+    if model:
+        comp, reduced = model
+        rl.log_component_frame(rec, component, comp.origin)
+        picks = rl.subsample_indices(len(times))
+        shapes = _static_shapes(reduced, forces[picks])
+        factor = rl.exaggeration_factor(comp.node_xyz, shapes)
+        rl.log_structure(rec, component, comp.node_xyz, comp.elements, times[picks], shapes,
+                         factor, comp.clamp_xyz, comp.q0)
+        rec.log(f"/bench/{component}/structure/exaggeration", rr.TextDocument(
+            f"Deformed shape of {component}: quasi-static expansion x = K^-1 f(t) of the "
+            f"recorded load on the clamped reduced model, exaggerated x{factor:g}."),
+            static=True)
+
+
+def _log_markers(rec, component, kind, samples, t0):
+    times = _times(samples, t0)
+    for i in rl.subsample_indices(len(times), MAX_MARKER_FRAMES):
+        rec.set_time(rl.TIMELINE, duration=float(times[i]))
+        points = [_vec(p.position) for p in samples[i][1].poses]
+        color = (40, 200, 40) if kind == "true" else (200, 40, 200)
+        rec.log(f"/bench/{component}/markers/{kind}", rr.Points3D(points, colors=color,
+                                                                  radii=0.006))
+
+
+def _status_key(name, known):
+    parts = [p for p in re.split(r"[/:\s]+", name) if p]
+    component = next((p for p in parts if p in known), parts[-2] if len(parts) > 1 else "run")
+    test = parts[-1] if parts and parts[-1] != component else "result"
+    return component, test
+
+
+def _number(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return None
+
+
+def _log_identification(rec, samples, t0, known):
+    for t_ns, msg in samples:
+        for status in msg.status:
+            component, test = _status_key(status.name, known)
+            values = {kv.key: _number(kv.value) for kv in status.values}
+            values = {k: v for k, v in values.items() if v is not None}
+            rl.log_identification(rec, component, test, values, (t_ns - t0) * 1e-9)
+            model = _model(component) if component in known else None
+            if model and test in rl.AXIS_COLORS and {"l", "beta"} <= values.keys():
+                rl.log_axis(rec, component, test, values["l"], values["beta"], model[0].q0)
+
+
+def _log_vehicle(rec, grouped, t0):
+    joints = grouped.get("/vehicle/joint_states", [])
+    if joints:
+        names = list(joints[0][1].name)
+        rv.log_joint_series(rec, names, _times(joints, t0),
+                            [list(m.position) for _, m in joints])
+    bodies = grouped.get("/vehicle/bodies", [])
+    if bodies:
+        count = len(bodies[0][1].poses)
+        names = [f"body{i}" for i in range(count)]
+        rv.log_body_shapes(rec, "/vehicle/road_test",
+                           [rv.BodyShape(n, "box", (0.15, 0.1, 0.1)) for n in names])
+        rv.log_body_poses(rec, "/vehicle/road_test", names, _times(bodies, t0),
+                          [[_vec(p.position) for p in m.poses] for _, m in bodies],
+                          [[_quat(p.orientation) for p in m.poses] for _, m in bodies])
+
+
+def _log_markers_msgs(rec, samples):
+    for _, marker in samples:
+        if len(marker.points) >= 2:
+            a, b = np.array(_vec(marker.points[0])), np.array(_vec(marker.points[1]))
+            name = f"{marker.ns or 'axis'}_{marker.id}"
+            rv.log_joint_axis(rec, name, (a + b) / 2, b - a, np.linalg.norm(b - a) / 2)
+
+
+def convert_bag(bag_dir, rrd_path=None):
+    """Write the rerun recording of a recorded run; returns (rrd path, topics converted).
+
+    Raises :class:`~.mcap_bag.BagError` when ``bag_dir`` is not a readable bag.
+    """
+    bag_dir = Path(bag_dir)
+    info = bag_info(bag_dir)
+    grouped = _collect(bag_dir)
+    t0 = min((s[0][0] for s in grouped.values() if s), default=0)
+    bench = defaultdict(dict)
+    for topic in grouped:
+        match = BENCH_TOPIC.match(topic)
+        if match:
+            bench[match["component"]][match["what"]] = grouped[topic]
+    converted = []
+    with rl.RunRecording(rrd_path or rrd_path_of(bag_dir), bag_dir.name,
+                         default_blueprint(sorted(bench))) as run:
+        for component, topics in sorted(bench.items()):
+            if "load" in topics:
+                _log_bench_load(run.stream, component, topics["load"], topics.get("pose"), t0,
+                                _model(component))
+            for kind in ("true", "measured"):
+                if f"markers/{kind}" in topics:
+                    _log_markers(run.stream, component, kind, topics[f"markers/{kind}"], t0)
+            converted += [f"/bench/{component}/{what}" for what in topics]
+        if "/identification/results" in grouped:
+            _log_identification(run.stream, grouped["/identification/results"], t0, set(bench))
+            converted.append("/identification/results")
+        _log_vehicle(run.stream, grouped, t0)
+        converted += [t for t in ("/vehicle/joint_states", "/vehicle/bodies") if t in grouped]
+        marker_topics = [t.name for t in info.topics if t.type == "visualization_msgs/msg/Marker"]
+        for topic in marker_topics:
+            _log_markers_msgs(run.stream, grouped[topic])
+        converted += marker_topics
+    return run.path, sorted(converted)

@@ -1,0 +1,269 @@
+"""Rerun recording of a run (.rrd): bench components, loads, deformation axes, identification.
+
+Every function here takes plain numbers (numpy arrays, dicts, floats) so that it works with
+whatever the core or a recorded bag provides; the vehicle part is in :mod:`.rerun_vehicle`.
+Time is simulated time on the timeline ``sim_time`` (a duration, seconds). Entity paths:
+
+=========================================  ==================================================
+path                                       content
+=========================================  ==================================================
+/bench/<c>                                 Transform3D: component frame -> vehicle frame
+/bench/<c>/structure                       deformed beam model (LineStrips3D) over time,
+                                           displacements exaggerated by ``factor``
+/bench/<c>/structure/undeformed            the unloaded beam model (static)
+/bench/<c>/structure/clamps                clamp points (Points3D, static)
+/bench/<c>/structure/load_point            loaded end q0 (Points3D, static)
+/bench/<c>/structure/exaggeration          TextDocument stating the factor
+/bench/<c>/load                            load arrow at the loaded end (Arrows3D) over time
+/bench/<c>/load/force                      F_x, F_y, F_z [N] (Scalars) over time
+/bench/<c>/load/end_displacement           u_x, u_y, u_z of the loaded end [m] over time
+/bench/<c>/axes/<test>                     deformation axis of a test (LineStrips3D, static)
+/bench/<c>/axes/<test>/joint               its revolute joint (Points3D, static)
+/bench/<c>/axes/sweep                      axes of the frequency sweep (one strip per step)
+/identification/<c>/<test>/<name>          identified value (Scalars) at the time it is known
+=========================================  ==================================================
+
+Frames: the bench entities are in the component frame (clamp O at the origin, x forward, z
+up, symmetry plane x-z; Passigato et al. 2023, Sect. 4.2, Fig. 2); ``/bench/<c>`` carries the
+placement of O in the vehicle frame (REP-103).
+"""
+import os
+from pathlib import Path
+
+import numpy as np
+import rerun as rr
+
+from motoflex_ros.identify.axis import DeformationAxis, axis_in_plane
+
+__all__ = ["TIMELINE", "RunRecording", "log_component_frame",
+           "log_structure", "log_structure_model", "log_load", "log_axis", "log_sweep_axes",
+           "log_identification", "exaggeration_factor", "axis_from_l_beta",
+           "subsample_indices", "MAX_SHAPE_FRAMES"]
+
+TIMELINE = "sim_time"
+MAX_SHAPE_FRAMES = 400      # deformed shapes logged per component (evenly subsampled)
+AXIS_COLORS = {"static": (40, 110, 255), "torsion": (30, 170, 60), "bending": (120, 200, 60)}
+STRUCTURE_COLOR = (230, 130, 30)
+UNDEFORMED_COLOR = (150, 150, 150)
+CLAMP_COLOR = (90, 200, 255)       # light blue, as the clamp dots of the paper's Figs. 2, 5-7
+LOAD_COLOR = (255, 140, 0)         # orange, as the load dots of the paper's Figs. 2, 5-7
+
+
+class RunRecording:
+    """A RecordingStream writing one run's .rrd (application 'motoflex_ros', id = run name).
+
+    It writes to a temporary file next to ``rrd_path``; :meth:`close` renames it into place,
+    so no half-written .rrd is left under the final name (as a context manager, an exception
+    deletes the temporary file instead). Axes are REP-103 (right-handed, z up).
+    """
+
+    def __init__(self, rrd_path, run_name, blueprint=None):
+        self.path = Path(rrd_path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._tmp = self.path.with_name(f".{self.path.name}.{os.getpid()}.tmp")
+        self.stream = rr.RecordingStream("motoflex_ros", recording_id=str(run_name))
+        self.stream.save(self._tmp, default_blueprint=blueprint)
+        self.stream.send_recording_name(str(run_name))
+        self.stream.log("/", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
+
+    def close(self, keep=True):
+        """Flush and close the stream; move the file into place (``keep``) or delete it."""
+        self.stream.flush()
+        self.stream.disconnect()
+        if keep:
+            os.replace(self._tmp, self.path)
+            return self.path
+        self._tmp.unlink(missing_ok=True)
+        return None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, *exc):
+        self.close(keep=exc_type is None)
+
+
+def subsample_indices(n, limit=MAX_SHAPE_FRAMES):
+    """At most ``limit`` evenly spaced indices of ``range(n)``, always with the first and last."""
+    if n <= limit:
+        return np.arange(n)
+    return np.unique(np.round(np.linspace(0, n - 1, limit)).astype(int))
+
+
+def exaggeration_factor(node_xyz, displacements, share=0.1):
+    """Factor that makes the largest node displacement ``share`` of the model's size [-].
+
+    Rounded down to 1, 2 or 5 times a power of ten so the stated factor reads well; 1 when
+    nothing moves.
+    """
+    size = np.ptp(np.asarray(node_xyz, float), axis=0).max()
+    peak = np.abs(np.asarray(displacements, float)).max(initial=0.0)
+    if peak <= 0 or size <= 0:
+        return 1.0
+    raw = share * size / peak
+    power = 10.0 ** np.floor(np.log10(raw))
+    return float(max(m for m in (1, 2, 5) if m * power <= raw) * power)
+
+
+def _segments(node_xyz, elements):
+    node_xyz = np.asarray(node_xyz, float)
+    return node_xyz[np.asarray(elements, int)]
+
+
+def log_component_frame(rec, component, origin):
+    """Static placement of the component frame (O) in the vehicle frame [m]."""
+    rec.log(f"/bench/{component}", rr.Transform3D(translation=np.asarray(origin, float)),
+            static=True)
+
+
+def log_structure_model(rec, component, node_xyz, elements, clamp_xyz, load_xyz, factor):
+    """Static parts of /bench/<c>/structure: undeformed beams, clamps, load point, factor."""
+    base = f"/bench/{component}/structure"
+    rec.log(f"{base}/undeformed", rr.LineStrips3D(_segments(node_xyz, elements),
+                                                  colors=UNDEFORMED_COLOR, radii=0.002),
+            static=True)
+    rec.log(f"{base}/clamps", rr.Points3D(np.atleast_2d(clamp_xyz), colors=CLAMP_COLOR,
+                                          radii=0.015), static=True)
+    rec.log(f"{base}/load_point", rr.Points3D(np.atleast_2d(load_xyz), colors=LOAD_COLOR,
+                                              radii=0.015), static=True)
+    rec.log(f"{base}/exaggeration", rr.TextDocument(
+        f"Deformed shape of {component}: node displacements exaggerated x{factor:g} "
+        "(the arrows and time series are true size)."), static=True)
+    rec.log(base, rr.AnyValues(exaggeration_factor=float(factor)), static=True)
+
+
+def log_structure(rec, component, node_xyz, elements, times, node_displacements, factor,
+                  clamp_xyz, load_xyz):
+    """The beam model of a component, deformed over time (Sect. 4.2 bench tests).
+
+    Parameters
+    ----------
+    rec : rerun.RecordingStream
+        The run's stream.
+    component : str
+        Component name (frame, front_assembly, swingarm, ...).
+    node_xyz : array (n_nodes, 3)
+        Undeformed node positions in the component frame [m].
+    elements : array (n_elements, 2)
+        Node index pairs of the beam elements.
+    times : array (n_times,)
+        Simulated time [s] of each shape.
+    node_displacements : array (n_times, n_nodes, 3)
+        Node translations [m]; drawn as ``node_xyz + factor * displacement``.
+    factor : float
+        Exaggeration of the displacements [-], stated in the recording.
+    clamp_xyz, load_xyz : array (k, 3) and (3,)
+        Clamp points and loaded end q0 [m].
+
+    Returns
+    -------
+    int
+        Number of shapes logged (at most :data:`MAX_SHAPE_FRAMES`).
+
+    """
+    log_structure_model(rec, component, node_xyz, elements, clamp_xyz, load_xyz, factor)
+    node_xyz = np.asarray(node_xyz, float)
+    displacements = np.asarray(node_displacements, float)
+    picks = subsample_indices(len(times))
+    for i in picks:
+        rec.set_time(TIMELINE, duration=float(times[i]))
+        deformed = node_xyz + factor * displacements[i]
+        rec.log(f"/bench/{component}/structure",
+                rr.LineStrips3D(_segments(deformed, elements), colors=STRUCTURE_COLOR,
+                                radii=0.004))
+    return len(picks)
+
+
+def _series(rec, path, times, values, names):
+    values = np.asarray(values, float).reshape(len(times), -1)
+    rec.log(path, rr.SeriesLines(names=list(names)), static=True)
+    rec.send_columns(path, indexes=[rr.TimeColumn(TIMELINE, duration=np.asarray(times, float))],
+                     columns=rr.Scalars.columns(scalars=values))
+
+
+def log_load(rec, component, times, forces, load_xyz, end_displacements,
+             displacement_times=None, arrow_m_per_n=None):
+    """The load as an arrow at the loaded end and time series of load and end displacement.
+
+    ``forces`` (n, 3) [N] in the component frame at ``times`` [s]; ``end_displacements``
+    (m, 3) [m] of the loaded end at ``displacement_times`` [s] (default: ``times``);
+    ``arrow_m_per_n`` [m/N] draws the largest force 0.15 m long by default. Returns the number
+    of load samples logged.
+    """
+    times = np.asarray(times, float)
+    forces = np.asarray(forces, float).reshape(len(times), 3)
+    base = f"/bench/{component}/load"
+    _series(rec, f"{base}/force", times, forces, ["F_x [N]", "F_y [N]", "F_z [N]"])
+    _series(rec, f"{base}/end_displacement",
+            times if displacement_times is None else displacement_times, end_displacements,
+            ["u_x [m]", "u_y [m]", "u_z [m]"])
+    peak = np.abs(forces).max(initial=0.0)
+    scale = arrow_m_per_n if arrow_m_per_n is not None else (0.15 / peak if peak > 0 else 0.0)
+    origins = np.tile(np.asarray(load_xyz, float), (len(times), 1))
+    rec.send_columns(base, indexes=[rr.TimeColumn(TIMELINE, duration=times)],
+                     columns=rr.Arrows3D.columns(vectors=forces * scale, origins=origins,
+                                                 colors=np.tile(LOAD_COLOR, (len(times), 1))))
+    return len(times)
+
+
+def axis_from_l_beta(l, beta, q0):
+    """A :class:`DeformationAxis` from the identified l [m] and beta [rad] (eqs. 5-7).
+
+    The joint lies on the line O-q0 at the signed distance l (eq. 5); b follows from eq. (7).
+    """
+    q0 = np.asarray(q0, float)
+    length = np.hypot(q0[0], q0[2])
+    return DeformationAxis(l=float(l), beta=float(beta), b=float((length - l) * np.sin(beta)),
+                           x_j=float(l * q0[0] / length), z_j=float(l * q0[2] / length))
+
+
+def _axis_strip(axis, q0, half_length):
+    point, direction = axis_in_plane(axis, q0)
+    return np.array([point - half_length * direction, point + half_length * direction])
+
+
+def log_axis(rec, component, test, l, beta, q0, half_length=None):
+    """Deformation axis of one test (static, torsion, bending) and its joint, as Figs. 5-7.
+
+    l [m], beta [rad] as identified (eqs. 5-6); q0 [m] the unloaded loaded end. The strip is
+    drawn ``half_length`` [m] (default: |q0|) either side of the joint in the x-z plane.
+    """
+    q0 = np.asarray(q0, float)
+    axis = axis_from_l_beta(l, beta, q0)
+    half = half_length or float(np.hypot(q0[0], q0[2]))
+    color = AXIS_COLORS.get(test, (200, 200, 200))
+    path = f"/bench/{component}/axes/{test}"
+    rec.log(path, rr.LineStrips3D([_axis_strip(axis, q0, half)], colors=color, radii=0.004,
+                                  labels=[test]), static=True)
+    rec.log(f"{path}/joint", rr.Points3D([[axis.x_j, 0.0, axis.z_j]], colors=color,
+                                         radii=0.02, labels=[f"{test} joint"]), static=True)
+
+
+def log_sweep_axes(rec, component, frequencies_hz, ls, betas, q0, half_length=None):
+    """Axes of the harmonic sweep (Figs. 5-7, thin black lines): one strip per frequency."""
+    q0 = np.asarray(q0, float)
+    half = half_length or float(np.hypot(q0[0], q0[2]))
+    strips = [_axis_strip(axis_from_l_beta(l, b, q0), q0, half) for l, b in zip(ls, betas)]
+    labels = [f"{f:g} Hz" for f in frequencies_hz]
+    rec.log(f"/bench/{component}/axes/sweep",
+            rr.LineStrips3D(strips, colors=(20, 20, 20), radii=0.0015, labels=labels),
+            static=True)
+    return len(strips)
+
+
+def log_identification(rec, component, test, values, time_s):
+    """Identified values of one test as scalars at ``time_s`` [s] of simulated time.
+
+    ``values`` maps names (l, beta, b, k, c, J, f_hz, k_t, k_b, ...) to numbers in SI units;
+    non-numeric or non-finite entries are skipped. Returns the names logged.
+    """
+    rec.set_time(TIMELINE, duration=float(time_s))
+    logged = []
+    for name, value in values.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
+            continue
+        if not np.isfinite(value):
+            continue
+        rec.log(f"/identification/{component}/{test}/{name}", rr.Scalars(float(value)))
+        logged.append(name)
+    return logged

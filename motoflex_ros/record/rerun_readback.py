@@ -1,0 +1,53 @@
+"""Read a saved rerun recording back: rows per entity path, scalar values, CLI verification.
+
+Used by tests and by ``motoflex rerun`` to check what it wrote. rerun-sdk 0.41 has no
+``rerun.dataframe``; the recording is read with ``rerun.chunk.RrdReader``.
+"""
+import shutil
+import subprocess
+import sys
+from collections import Counter
+from pathlib import Path
+
+from rerun.chunk import RrdReader
+
+__all__ = ["entity_rows", "scalar_values", "verify_text", "rerun_executable", "recordings"]
+
+
+def recordings(rrd_path):
+    """Store entries (kind, application id, recording id) of the recordings in the file."""
+    return RrdReader(Path(rrd_path)).recordings()
+
+
+def entity_rows(rrd_path, static=False):
+    """Rows per entity path, {path: rows}: time-stamped rows, or static ones (``static``)."""
+    rows = Counter()
+    for chunk in RrdReader(Path(rrd_path)).stream().to_chunks():
+        if chunk.is_static == static:
+            rows[chunk.entity_path] += chunk.num_rows
+    return dict(rows)
+
+
+def scalar_values(rrd_path, entity_path):
+    """The Scalars values logged at ``entity_path`` (first value of each row), in row order."""
+    values = []
+    for chunk in RrdReader(Path(rrd_path)).stream().to_chunks():
+        if chunk.entity_path != entity_path:
+            continue
+        batch = chunk.to_record_batch()
+        column = batch.column(batch.schema.get_field_index("Scalars:scalars"))
+        values += [row[0] for row in column.to_pylist()]
+    return values
+
+
+def rerun_executable():
+    """Path of the ``rerun`` CLI of this environment (next to the interpreter, else PATH)."""
+    local = Path(sys.executable).with_name("rerun")
+    return str(local) if local.exists() else shutil.which("rerun")
+
+
+def verify_text(rrd_path):
+    """Output of ``rerun rrd verify``: exit 0 alone is not enough (0 files also exit 0)."""
+    result = subprocess.run([rerun_executable(), "rrd", "verify", str(rrd_path)],
+                            capture_output=True, text=True, timeout=120)
+    return f"exit {result.returncode}\n{result.stdout}{result.stderr}"

@@ -1,0 +1,183 @@
+"""`motoflex rerun BAG`: a recorded bag becomes bags/<run>/<run>.rrd with every entity path.
+
+The bag is written here with the project's bag writer and CDR from the rosbags type store, with
+the topics and types of issue 8; its numbers come from the shipped frame model (static response
+of the clamped reduced model), so the recording is checked against the model it shows.
+"""
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from motoflex_ros.record.mcap_bag import BagWriter
+from motoflex_ros.record.rerun_readback import entity_rows, scalar_values, verify_text
+from motoflex_ros.structures import load_component
+
+N_LOAD = 120
+N_BODY = 50
+RATE_HZ = 100.0
+
+
+def _ts():
+    from rosbags.typesys import Stores, get_typestore
+    return get_typestore(Stores.ROS2_JAZZY)
+
+
+def _header(ts, t_ns, frame="frame"):
+    m = ts.types
+    stamp = m["builtin_interfaces/msg/Time"](sec=t_ns // 10**9, nanosec=t_ns % 10**9)
+    return m["std_msgs/msg/Header"](stamp=stamp, frame_id=frame)
+
+
+def _vector(ts, xyz):
+    return ts.types["geometry_msgs/msg/Vector3"](x=float(xyz[0]), y=float(xyz[1]),
+                                                  z=float(xyz[2]))
+
+
+def _pose(ts, xyz, quat=(0.0, 0.0, 0.0, 1.0)):
+    m = ts.types
+    return m["geometry_msgs/msg/Pose"](
+        position=m["geometry_msgs/msg/Point"](x=float(xyz[0]), y=float(xyz[1]), z=float(xyz[2])),
+        orientation=m["geometry_msgs/msg/Quaternion"](x=quat[0], y=quat[1], z=quat[2],
+                                                      w=quat[3]))
+
+
+def _write(writer, ts, topic, type_name, t_ns, msg):
+    writer.add_topic(topic, type_name)
+    writer.write(topic, t_ns, bytes(ts.serialize_cdr(msg, type_name)))
+
+
+def _bench(writer, ts, reduced):
+    m = ts.types
+    for i in range(N_LOAD):
+        t_ns = int(i * 1e9 / RATE_HZ)
+        force = 100.0 * i / (N_LOAD - 1)
+        motion = reduced.static_end_motion([0, force, 0, 0, 0, 0])
+        q = reduced.q0 + motion[:3]
+        wrench = m["geometry_msgs/msg/Wrench"](force=_vector(ts, [0, force, 0]),
+                                               torque=_vector(ts, [0, 0, 0]))
+        _write(writer, ts, "/bench/frame/load", "geometry_msgs/msg/WrenchStamped", t_ns,
+               m["geometry_msgs/msg/WrenchStamped"](header=_header(ts, t_ns), wrench=wrench))
+        _write(writer, ts, "/bench/frame/pose", "geometry_msgs/msg/PoseStamped", t_ns,
+               m["geometry_msgs/msg/PoseStamped"](header=_header(ts, t_ns), pose=_pose(ts, q)))
+        markers = [_pose(ts, q + d) for d in np.eye(3) * 0.05]
+        for kind in ("true", "measured"):
+            _write(writer, ts, f"/bench/frame/markers/{kind}", "geometry_msgs/msg/PoseArray",
+                   t_ns, m["geometry_msgs/msg/PoseArray"](header=_header(ts, t_ns),
+                                                          poses=markers))
+
+
+def _identification(writer, ts, reduced):
+    m = ts.types
+    static = reduced.static_lateral(100.0)
+    values = {"l": static.axis.l, "beta": static.axis.beta, "b": static.axis.b, "k": static.k}
+    status = m["diagnostic_msgs/msg/DiagnosticStatus"](
+        level=b"\x00"[0], name="frame/static", message="identified", hardware_id="bench",
+        values=[m["diagnostic_msgs/msg/KeyValue"](key=k, value=repr(float(v)))
+                for k, v in values.items()])
+    t_ns = int(N_LOAD * 1e9 / RATE_HZ)
+    _write(writer, ts, "/identification/results", "diagnostic_msgs/msg/DiagnosticArray", t_ns,
+           m["diagnostic_msgs/msg/DiagnosticArray"](header=_header(ts, t_ns), status=[status]))
+    return values
+
+
+def _vehicle(writer, ts):
+    m = ts.types
+    for i in range(N_BODY):
+        t_ns = int((2.0 + i / RATE_HZ) * 1e9)
+        steer = 0.01 * np.sin(2 * np.pi * i / N_BODY)
+        _write(writer, ts, "/vehicle/joint_states", "sensor_msgs/msg/JointState", t_ns,
+               m["sensor_msgs/msg/JointState"](header=_header(ts, t_ns), name=["steer", "roll"],
+                                               position=np.array([steer, 0.5 * steer]),
+                                               velocity=np.zeros(2), effort=np.zeros(2)))
+        poses = [_pose(ts, [30.0 * i / RATE_HZ + dx, 0.0, 0.5]) for dx in (0.0, 0.7, 1.4)]
+        _write(writer, ts, "/vehicle/bodies", "geometry_msgs/msg/PoseArray", t_ns,
+               m["geometry_msgs/msg/PoseArray"](header=_header(ts, t_ns), poses=poses))
+    point = m["geometry_msgs/msg/Point"]
+    marker = m["visualization_msgs/msg/Marker"](
+        header=_header(ts, 10**9), ns="frame_static", id=0, type=0, action=0,
+        pose=_pose(ts, [0, 0, 0]), scale=_vector(ts, [0.01, 0.02, 0.0]),
+        color=m["std_msgs/msg/ColorRGBA"](r=0.0, g=0.5, b=1.0, a=1.0),
+        lifetime=m["builtin_interfaces/msg/Duration"](sec=0, nanosec=0), frame_locked=False,
+        points=[point(x=0.6, y=0.0, z=0.3), point(x=1.2, y=0.0, z=0.8)], colors=[],
+        texture_resource="", texture=m["sensor_msgs/msg/CompressedImage"](
+            header=_header(ts, 0), format="", data=np.zeros(0, np.uint8)),
+        uv_coordinates=[], text="", mesh_resource="",
+        mesh_file=m["visualization_msgs/msg/MeshFile"](filename="", data=np.zeros(0, np.uint8)),
+        mesh_use_embedded_materials=False)
+    _write(writer, ts, "/vehicle/joint_axes", "visualization_msgs/msg/Marker", 10**9, marker)
+
+
+def make_bag(path):
+    """A small run bag with the rig's topics; returns the identified static values it holds."""
+    ts = _ts()
+    reduced = load_component("frame").clamped_reduced()
+    with BagWriter(path) as writer:
+        _bench(writer, ts, reduced)
+        values = _identification(writer, ts, reduced)
+        _vehicle(writer, ts)
+    return values
+
+
+@pytest.fixture(scope="module")
+def converted(tmp_path_factory):
+    bag = tmp_path_factory.mktemp("bags") / "run1"
+    values = make_bag(bag)
+    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "rerun", str(bag)],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    return bag, values, result.stdout
+
+
+def test_rerun_bag_writes_rrd_that_verifies(converted):
+    bag, _, stdout = converted
+    rrd = bag / "run1.rrd"
+    assert rrd.is_file()
+    assert str(rrd) in stdout
+    assert "1 file verified without error." in verify_text(rrd)
+    assert not list(bag.glob(".*.tmp"))
+
+
+def test_rerun_bag_roundtrip_entity_counts(converted):
+    bag, _, _ = converted
+    rows = entity_rows(bag / "run1.rrd")
+    expected = {
+        "/bench/frame/load": N_LOAD,
+        "/bench/frame/load/force": N_LOAD,
+        "/bench/frame/load/end_displacement": N_LOAD,
+        "/bench/frame/structure": N_LOAD,
+        "/bench/frame/markers/true": N_LOAD,
+        "/bench/frame/markers/measured": N_LOAD,
+        "/identification/frame/static/l": 1,
+        "/identification/frame/static/beta": 1,
+        "/identification/frame/static/b": 1,
+        "/identification/frame/static/k": 1,
+        "/vehicle/road_test/joints/steer": N_BODY,
+        "/vehicle/road_test/joints/roll": N_BODY,
+        "/vehicle/road_test/body0": N_BODY,
+        "/vehicle/road_test/body2": N_BODY,
+    }
+    for path, count in expected.items():
+        assert rows.get(path, 0) == count, (path, rows.get(path))
+    static = entity_rows(bag / "run1.rrd", static=True)
+    for path in ("/bench/frame", "/bench/frame/structure/undeformed",
+                 "/bench/frame/structure/clamps", "/bench/frame/structure/load_point",
+                 "/bench/frame/structure/exaggeration", "/bench/frame/axes/static",
+                 "/bench/frame/axes/static/joint", "/vehicle/joint_axes/frame_static_0"):
+        assert static.get(path, 0) >= 1, path
+
+
+def test_rerun_bag_identified_values_roundtrip(converted):
+    bag, values, _ = converted
+    for name, value in values.items():
+        got = scalar_values(bag / "run1.rrd", f"/identification/frame/static/{name}")
+        assert got == [pytest.approx(value, rel=1e-12)]
+
+
+def test_rerun_not_a_bag_is_a_clear_error(tmp_path):
+    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "rerun",
+                             str(tmp_path / "nope")], capture_output=True, text=True)
+    assert result.returncode == 2
+    assert "not a bag" in result.stderr
+    assert "Traceback" not in result.stderr
