@@ -1,0 +1,109 @@
+"""``motoflex eig``: eigenvalues of a vehicle over speed, with weave, wobble and capsize.
+
+    motoflex eig --vehicle FILE (--speeds V... | --range-kmh LO HI --step S) [--json] [--plot DIR]
+
+Speeds after --speeds are in m/s; --range-kmh gives km/h (inclusive of HI when it falls on the
+step). --json prints {"speeds_mps", "eigenvalues" ([[re, im], ...] per speed, 1/s),
+"modes": {"weave", "wobble", "capsize": [[re, im] | null per speed]}}. --plot DIR writes the
+root locus and weave/wobble frequency and real part against speed (PNG).
+"""
+import math
+import sys
+
+import numpy as np
+
+from motoflex_ros.cli.output import emit_json, print_table
+from motoflex_ros.config import resolve_config
+from motoflex_ros.errors import ConfigError
+from motoflex_ros.vehicle.linearize import linearize
+from motoflex_ros.vehicle.model import load_vehicle
+from motoflex_ros.vehicle.modes import MODE_NAMES, modal_sweep
+
+__all__ = ["register", "run", "requested_speeds", "sweep_to_json"]
+
+_ARGS = "command line"
+
+
+def register(subparsers):
+    parser = subparsers.add_parser(
+        "eig", help="weave, wobble and capsize eigenvalues of a vehicle over speed",
+        description="Linearize a vehicle (config/vehicles/*.yaml) about straight running and "
+                    "print its eigenvalues over speed, with weave, wobble and capsize tracked "
+                    "by mode shape.")
+    parser.add_argument("--vehicle", required=True,
+                        help="vehicle YAML file, or the name of a shipped vehicle (touring)")
+    speeds = parser.add_mutually_exclusive_group(required=True)
+    speeds.add_argument("--speeds", type=float, nargs="+", metavar="V", help="speeds [m/s]")
+    speeds.add_argument("--range-kmh", type=float, nargs=2, metavar=("LO", "HI"),
+                        help="speed range [km/h]")
+    parser.add_argument("--step", type=float, help="step of --range-kmh [km/h]")
+    parser.add_argument("--json", action="store_true", help="print JSON only")
+    parser.add_argument("--plot", metavar="DIR", help="write root locus and mode plots (PNG)")
+    parser.set_defaults(func=run)
+
+
+def requested_speeds(args):
+    """Speeds [m/s] from --speeds or --range-kmh/--step; ConfigError on bad values."""
+    if args.speeds is not None:
+        speeds = np.asarray(args.speeds, float)
+        key = "--speeds"
+    else:
+        if args.step is None or not args.step > 0:
+            raise ConfigError(_ARGS, "--step", "give a step > 0 km/h with --range-kmh")
+        low, high = args.range_kmh
+        if not high >= low:
+            raise ConfigError(_ARGS, "--range-kmh", f"HI {high:g} must be >= LO {low:g}")
+        count = int(math.floor((high - low) / args.step + 1e-9)) + 1
+        speeds = (low + args.step * np.arange(count)) / 3.6
+        key = "--range-kmh"
+    bad = speeds[~(np.isfinite(speeds) & (speeds > 0))]
+    if bad.size:
+        raise ConfigError(_ARGS, key, f"speeds must be finite and > 0, got {bad[0]:g}")
+    return speeds
+
+
+def _pair(z):
+    return None if not np.isfinite(z) else [float(z.real), float(z.imag)]
+
+
+def sweep_to_json(sweep):
+    """The JSON document of a ModalSweep (shape in the module docstring)."""
+    return {"speeds_mps": [float(v) for v in sweep.speeds],
+            "eigenvalues": [[[float(z.real), float(z.imag)] for z in ev]
+                            for ev in sweep.eigenvalues],
+            "modes": {name: [_pair(z) for z in sweep.modes[name]] for name in MODE_NAMES}}
+
+
+def _cell(z, part):
+    if not np.isfinite(z):
+        return "-"
+    return f"{z.imag / (2 * np.pi):.3f}" if part == "f" else f"{z.real:.3f}"
+
+
+def _print_table(sweep, stream):
+    rows = []
+    for k, v in enumerate(sweep.speeds):
+        m = {name: sweep.modes[name][k] for name in MODE_NAMES}
+        rows.append([f"{v * 3.6:.1f}", _cell(m["weave"], "f"), _cell(m["weave"], "re"),
+                     _cell(m["wobble"], "f"), _cell(m["wobble"], "re"),
+                     _cell(m["capsize"], "re")])
+    print_table(["speed km/h", "weave Hz", "weave Re 1/s", "wobble Hz", "wobble Re 1/s",
+                 "capsize 1/s"], rows, stream)
+
+
+def run(args):
+    speeds = requested_speeds(args)
+    model = load_vehicle(resolve_config("vehicles", args.vehicle))
+    # variants (lumped joints, Craig-Bampton superelements) are applied to `model` here, before
+    # linearization, when --flex is added by the accuracy issue
+    sweep = modal_sweep(linearize(model), speeds)
+    if args.plot:
+        from motoflex_ros.plots.vehicle import plot_modal_sweep
+        written = plot_modal_sweep(sweep, args.plot, model.name)
+        if not args.json:
+            print("wrote " + ", ".join(str(p) for p in written), file=sys.stderr)
+    if args.json:
+        emit_json(sweep_to_json(sweep))
+    else:
+        _print_table(sweep, sys.stdout)
+    return 0

@@ -1,0 +1,1 @@
+"""Plots (matplotlib, Agg backend), imported lazily by the CLI verbs; never by the core."""
