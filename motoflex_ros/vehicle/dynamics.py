@@ -155,8 +155,12 @@ def _joint_spring_dampers(system, q, u):
     return np.array([c.stiffness * q[k] + c.damping * u[k] for k, c in enumerate(coords)])
 
 
-def residual(system, xdot, x, v):
-    """Residual R(x', x; v) of the equations of motion (module docstring); v [m/s] > 0."""
+def residual(system, xdot, x, v, applied=None):
+    """Residual R(x', x; v) of the equations of motion (module docstring); v [m/s] > 0.
+
+    applied: optional generalised forces on the coordinates (e.g. a steer torque [N m] on the
+    steer joint's entry), subtracted like every applied force.
+    """
     n = len(system.tree.coordinates)
     nq, nu = len(system.indep_pos), len(system.indep_speed)
     dtype = np.result_type(xdot, x, float)
@@ -178,6 +182,8 @@ def residual(system, xdot, x, v):
     forces += _joint_spring_dampers(system, q, u)
     tyre_rows = _tyre_forces_and_rows(system, frames, contacts, xdot[nq + nu:], x[nq + nu:], v)
     forces -= tyre_rows[1]
+    if applied is not None:
+        forces = forces - applied
     S = _partial_velocities(system, G)
     kin = xdot[:nq] - u[list(system.indep_pos)]
     return np.concatenate([kin, S.T @ forces, np.array(tyre_rows[0], dtype)])

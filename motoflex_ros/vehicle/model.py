@@ -72,7 +72,8 @@ class Wheel:
 
 @dataclass(frozen=True)
 class VehicleModel:
-    """A complete vehicle description (see module docstring); roles map 'steer' etc. to joints."""
+    """A complete vehicle description (see module docstring); roles map 'steer' etc. to joints;
+    reference_speed [m/s] is where weave, wobble and capsize are named before tracking."""
 
     name: str
     source: str
@@ -82,6 +83,7 @@ class VehicleModel:
     joints: tuple
     wheels: tuple
     roles: dict = field(default_factory=dict)
+    reference_speed: float = 100.0 / 3.6
     flex: dict = field(default_factory=dict)
 
     def body(self, name):
@@ -213,7 +215,7 @@ def vehicle_from_dict(data, source="<dict>"):
     wheels = _wheels(spec, bodies, source, spec["gravity"])
     return VehicleModel(spec["name"], str(source), spec["gravity"], spec["root"],
                         tuple(bodies.values()), joints, wheels, dict(spec["roles"]),
-                        dict(spec["flex"]))
+                        spec["reference_speed"], dict(spec["flex"]))
 
 
 def load_vehicle(path):

@@ -3,7 +3,9 @@ eigenvector similarity (modal assurance criterion), never by sorting.
 
 Mode shape: the rate part of the eigenvector (lateral velocity divided by the wheelbase, yaw,
 roll, steer, rider lean and any other joint rates), as shares |phi_k|^2 / sum |phi|^2.
-At a reference speed (100 km/h when it lies in the sweep, else the middle speed):
+At the vehicle's reference speed (``reference_speed`` in its YAML, default 100 km/h; added to
+the tracking grid when outside the requested speeds, so that a mode has the same name whatever
+speeds are asked for):
 - wobble: oscillatory, 5-12 Hz, the largest steer share (at least one half);
 - weave: oscillatory, 0.5-5 Hz, the largest roll + yaw + lateral share;
 - capsize: real, the slowest mode with roll + yaw + lateral share of at least one half.
@@ -25,7 +27,6 @@ WOBBLE_BAND_HZ = (5.0, 12.0)
 MODE_NAMES = ("weave", "wobble", "capsize")
 _MAX_STEP = 0.25
 _MAC_LOST = 0.5
-_REFERENCE_SPEED = 100.0 / 3.6
 
 
 @dataclass(frozen=True)
@@ -142,8 +143,9 @@ def _follow(values, shapes, start, index, step):
     return track
 
 
-def _grid(speeds):
-    low, high = float(np.min(speeds)), float(np.max(speeds))
+def _grid(speeds, reference):
+    low = min(float(np.min(speeds)), reference)
+    high = max(float(np.max(speeds)), reference)
     count = max(int(np.ceil((high - low) / _MAX_STEP)), 1) + 1
     return np.unique(np.concatenate([np.linspace(low, high, count), speeds]))
 
@@ -151,12 +153,12 @@ def _grid(speeds):
 def modal_sweep(lin, speeds):
     """ModalSweep of a LinearVehicle at the given speeds [m/s] (module docstring)."""
     speeds = np.asarray(speeds, float)
-    grid = _grid(speeds)
+    reference = lin.system.model.reference_speed
+    grid = _grid(speeds, reference)
     values, vectors = eigen_decomposition(lin, grid)
     order, weights, groups = _shape_groups(lin)
     shapes = vectors[:, order, :] * weights[None, :, None]
-    ref_speed = _REFERENCE_SPEED if grid[0] <= _REFERENCE_SPEED <= grid[-1] else np.median(grid)
-    ref = int(np.argmin(np.abs(grid - ref_speed)))
+    ref = int(np.argmin(np.abs(grid - reference)))
     ref_shares = {g: s[ref] for g, s in _shares(vectors, order, weights, groups).items()}
     picks = _pick_reference(values[ref], ref_shares)
     at = np.searchsorted(grid, speeds)

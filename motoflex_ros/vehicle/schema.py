@@ -58,6 +58,8 @@ VEHICLE_SCHEMA = Field("mapping", fields={
     "description": Field("str", required=False, default=""),
     "gravity": positive(required=False, default=9.81, help="[m/s^2]"),
     "root": Field("str", help="name of the floating-base body"),
+    "reference_speed": positive(required=False, default=100.0 / 3.6,
+                                help="speed [m/s] at which modes are named before tracking"),
     "roles": Field("mapping", required=False, default={}, extra=True, item=Field("str")),
     "bodies": Field("mapping", extra=True, item=_BODY, min_items=1),
     "joints": Field("mapping", required=False, default={}, extra=True, item=_JOINT),
