@@ -69,3 +69,13 @@ def test_anova_rejects_shape_mismatch():
     design = full_factorial(PAPER_TABLE2_NOMINAL, levels=2)
     with pytest.raises(ModelError, match="does not match"):
         anova(design.coded, np.zeros(63), FACTORS)
+
+
+@pytest.mark.parametrize("levels", [2, 3])
+def test_constant_response_has_the_same_table_shape(levels):
+    design = full_factorial(PAPER_TABLE2_NOMINAL, levels=levels)
+    varying = anova(design.coded, design.coded[:, 0], design.factors)
+    constant = anova(design.coded, np.zeros(len(design)), design.factors)
+    assert constant.terms == varying.terms
+    np.testing.assert_array_equal(constant.df, varying.df)
+    assert np.all(constant.sum_sq == 0) and np.isnan(constant.main_share)

@@ -188,3 +188,40 @@ def test_same_target_twice_is_an_error():
 def test_callable_without_speeds_is_an_error():
     with pytest.raises(ModelError, match="speeds"):
         continue_eigenpairs(lambda j: np.eye(2)[None], [[1.0]], np.ones((1, 2, 1)))
+
+
+def descriptor_family(seed=21, ny=8, nz=3):
+    """E x' = A x with algebraic states: y' = A(v) y + B z, 0 = C y - z, mixed by P and Q.
+
+    E is singular (rank ny); the finite eigenvalues are those of A(v) + B C.
+    """
+    rng = np.random.default_rng(seed)
+    a0, a1 = rng.standard_normal((2, ny, ny))
+    b, c = rng.standard_normal((ny, nz)), rng.standard_normal((nz, ny))
+    p, q = rng.standard_normal((2, ny + nz, ny + nz))
+    e = np.zeros((ny + nz, ny + nz))
+    e[:ny, :ny] = np.eye(ny)
+
+    def pencil(v):
+        a = np.block([[a0 + v * a1, b], [c, -np.eye(nz)]])
+        return p @ e @ q, p @ a @ q
+
+    return pencil, (lambda v: a0 + v * a1 + b @ c)
+
+
+def test_descriptor_pencil_matches_reduced_eig():
+    pencil, reduced = descriptor_family()
+    speeds = np.linspace(0.0, 0.25, 51)
+    e, a = (np.stack(m)[None] for m in zip(*[pencil(v) for v in speeds]))
+    assert np.linalg.matrix_rank(e[0, 0]) == 8
+    values0 = np.linalg.eigvals(reduced(0.0))
+    targets = np.sort_complex(values0 * 1j)[:2] / 1j  # the two highest frequencies
+    lam0, vec0 = nearest_eigenpairs(a[:, 0], targets, descriptor=e[:, 0])
+    np.testing.assert_allclose(lam0[0], targets, atol=1e-10)
+    result = continue_eigenpairs((e, a), lam0, vec0, speeds=speeds)
+    assert np.all(result.converged)
+    reference = eig_reference_tracking([reduced(v) for v in speeds], lam0[0])
+    np.testing.assert_allclose(result.eigenvalues[0], reference, atol=1e-9)
+    pencils = continue_eigenpairs(lambda j: tuple(m[None] for m in pencil(speeds[j])),
+                                  lam0, vec0, speeds=speeds)
+    np.testing.assert_allclose(pencils.eigenvalues, result.eigenvalues, atol=1e-12)

@@ -63,6 +63,22 @@ def _check_factorial(coded, factors):
                              f"{_MAX_LEVELS} levels")
 
 
+def _constant_response(coded, factors, interactions):
+    """The ANOVA table of a response that does not vary: all zero, share undefined (NaN)."""
+    free = {name: np.unique(coded[:, i]).size - 1.0 for i, name in enumerate(factors)}
+    terms, df = list(factors), [free[name] for name in factors]
+    if interactions:
+        for i, a in enumerate(factors):
+            for b in factors[i + 1:]:
+                terms.append(f"{a}:{b}")
+                df.append(free[a] * free[b])
+    terms.append("Residual")
+    df.append(coded.shape[0] - 1.0 - sum(df))
+    nan = np.full(len(terms), np.nan)
+    return AnovaResult(terms=tuple(terms), sum_sq=np.zeros(len(terms)), df=np.array(df),
+                       f_value=nan, p_value=nan, total_ss=0.0, main_share=float("nan"))
+
+
 def anova(coded, response, factors, interactions=True):
     """ANOVA with main effects and (optionally) all two-factor interactions.
 
@@ -85,6 +101,8 @@ def anova(coded, response, factors, interactions=True):
         raise ModelError(f"design {coded.shape} does not match {response.size} responses and "
                          f"{len(factors)} factors")
     _check_factorial(coded, factors)
+    if np.ptp(response) == 0.0:
+        return _constant_response(coded, factors, interactions)
     frame = pd.DataFrame(coded, columns=list(factors))
     frame["response"] = response
     fit = smf.ols(_formula(factors, interactions), data=frame).fit()

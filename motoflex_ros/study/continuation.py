@@ -1,12 +1,13 @@
 """Eigenpair continuation over speed: track a few modes without full decompositions.
 
 For each run r, tracked mode k and speed index j, the eigenpair (lambda, x) of the state
-matrix A_r(v_j) [1/s] is found by Newton's method on the bordered system
+matrix A_r(v_j) [1/s] (or of the descriptor pencil E x' = A x, where E may be singular, as
+with massless bodies) is found by Newton's method on the bordered system
 
-    (A - lambda I) x = 0,     c^H x = 1,
+    (A - lambda E) x = 0,     c^H x = 1,
 
-    [A - lambda I   -x] [dx      ]     [(A - lambda I) x]
-    [c^H             0] [dlambda ] = - [c^H x - 1       ],
+    [A - lambda E   -E x] [dx      ]     [(A - lambda E) x]
+    [c^H             0  ] [dlambda ] = - [c^H x - 1       ],
 
 with c the previous speed's (unit) eigenvector, which fixes scale and phase and keeps the
 iteration on the same branch. The start of each step is a polynomial extrapolation (up to
@@ -16,12 +17,17 @@ each (run, mode) stops iterating on its own residual, so a run's result does not
 which other runs share its batch.
 
 The converged eigenvector is rescaled to unit 2-norm (a real factor: the phase stays
-continuous). ``step_mac`` is the modal assurance criterion between consecutive eigenvectors;
-a value far below 1 means the speed step was too coarse for that mode (refine the grid).
+continuous). Infinite eigenvalues of a singular E are never approached: each tracked pair
+stays on its finite branch. ``step_mac`` is the modal assurance criterion between consecutive
+eigenvectors; a value far below 1 means the speed step was too coarse for that mode (refine
+the grid). A real eigenvalue that meets another one and turns complex (or a complex pair that
+meets on the real axis) is a defective point that cannot be continued through: it shows as a
+residual above the tolerance or a low step MAC.
 """
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg
 
 from motoflex_ros.errors import ModelError
 
@@ -34,7 +40,8 @@ class ContinuationResult:
 
     eigenvalues: (runs, speeds, modes) complex [1/s]; eigenvectors: (runs, speeds, n, modes)
     complex unit vectors, or None if not kept; iterations: Newton steps per point (0: the
-    predictor already met the tolerance); residual: ||A x - lambda x|| / (||A||_F ||x||);
+    predictor already met the tolerance); residual: relative residual (see
+    :func:`continue_eigenpairs`);
     step_mac: MAC between the eigenvectors of consecutive speeds (1 at the first speed);
     tol: the residual tolerance used.
     """
@@ -58,26 +65,39 @@ def mac(x, y):
     return num / (np.sum(np.abs(x) ** 2, axis=-2) * np.sum(np.abs(y) ** 2, axis=-2))
 
 
-def nearest_eigenpairs(matrices, targets):
+def _all_eigenpairs(matrices, descriptor):
+    """Eigenvalues (runs, n) and eigenvectors (runs, n, n); infinite ones set to nan."""
+    if descriptor is None:
+        return np.linalg.eig(np.asarray(matrices))
+    pairs = [scipy.linalg.eig(a, e) for a, e in zip(np.asarray(matrices),
+                                                     np.asarray(descriptor))]
+    values = np.array([np.where(np.isfinite(v), v, np.nan) for v, _ in pairs])
+    return values, np.array([vec for _, vec in pairs])
+
+
+def nearest_eigenpairs(matrices, targets, descriptor=None):
     """Eigenpairs of each matrix nearest to target eigenvalues (a full decomposition).
 
     Parameters
     ----------
     matrices : array (runs, n, n)
-        State matrices at the starting speed [1/s].
+        State matrices A at the starting speed [1/s].
     targets : array (modes,) or (runs, modes), complex
         Approximate eigenvalues to pick (e.g. weave near -1 + 2 pi 2.5 i) [1/s].
+    descriptor : array (runs, n, n), optional
+        E of the pencil E x' = A x (may be singular); default the identity.
 
     Returns
     -------
     (eigenvalues (runs, modes), eigenvectors (runs, n, modes) unit 2-norm)
 
     """
-    values, vectors = np.linalg.eig(np.asarray(matrices))
+    values, vectors = _all_eigenpairs(matrices, descriptor)
     targets = np.asarray(targets, dtype=complex)
     if targets.ndim == 1:
         targets = np.broadcast_to(targets, (values.shape[0], targets.size))
-    pick = np.argmin(np.abs(values[:, :, None] - targets[:, None, :]), axis=1)
+    distance = np.abs(values[:, :, None] - targets[:, None, :])
+    pick = np.argmin(np.where(np.isnan(distance), np.inf, distance), axis=1)
     if any(np.unique(row).size < row.size for row in pick):
         raise ModelError("two target eigenvalues select the same eigenvalue")
     lam = np.take_along_axis(values, pick, axis=1)
@@ -85,18 +105,31 @@ def nearest_eigenpairs(matrices, targets):
     return lam.astype(complex), vec.astype(complex) / np.linalg.norm(vec, axis=1, keepdims=True)
 
 
+def _as_batch(array):
+    array = np.asarray(array)
+    array = array[None] if array.ndim == 3 else array
+    if array.ndim != 4 or array.shape[-1] != array.shape[-2]:
+        raise ModelError(f"state matrices must be (runs, speeds, n, n), got {array.shape}")
+    return array
+
+
 def _matrix_source(matrices, n_speeds):
-    """A function j -> (runs, n, n) and the number of speeds."""
+    """A function j -> (E or None, A), each (runs, n, n), and the number of speeds."""
     if callable(matrices):
         if n_speeds is None:
             raise ModelError("a callable of state matrices needs the speeds (or n_speeds)")
-        return (lambda j: np.asarray(matrices(j))), int(n_speeds)
-    array = np.asarray(matrices)
-    if array.ndim == 3:
-        array = array[None]
-    if array.ndim != 4 or array.shape[-1] != array.shape[-2]:
-        raise ModelError(f"state matrices must be (runs, speeds, n, n), got {array.shape}")
-    return (lambda j: array[:, j]), array.shape[1]
+
+        def get(j):
+            out = matrices(j)
+            return (None, np.asarray(out)) if not isinstance(out, tuple) else (
+                np.asarray(out[0]), np.asarray(out[1]))
+
+        return get, int(n_speeds)
+    if isinstance(matrices, tuple):
+        e, a = _as_batch(matrices[0]), _as_batch(matrices[1])
+        return (lambda j: (e[:, j], a[:, j])), a.shape[1]
+    a = _as_batch(matrices)
+    return (lambda j: (None, a[:, j])), a.shape[1]
 
 
 def _extrapolate(history, speed):
@@ -111,39 +144,68 @@ def _extrapolate(history, speed):
     return lam, vec
 
 
-def _residual(a, lam, x, a_norm):
-    """Relative residual ||A x - lambda x|| / (||A||_F ||x||), per (batch)."""
-    r = np.einsum("bij,bj->bi", a, x) - lam[:, None] * x
-    return np.linalg.norm(r, axis=1) / (a_norm * np.linalg.norm(x, axis=1))
+def _apply(a, x):
+    """A x for a batch of real (or complex) A (b, n, n) and complex x (b, n), by matmul."""
+    if np.iscomplexobj(a):
+        return np.matmul(a, x[..., None])[..., 0]
+    split = np.matmul(a, np.stack([x.real, x.imag], axis=-1))
+    return split[..., 0] + 1j * split[..., 1]
 
 
-def _newton_step(a, lam, x, c):
-    """One bordered Newton step for a batch: a (b, n, n), lam (b,), x (b, n), c (b, n)."""
+def _residual(pencil, lam, x):
+    """Residual vectors A x - lambda E x and their relative size.
+
+    The size is ||r|| / ((||A||_F + |lambda| ||E||_F) ||x||), with ||E||_F counted as 0 for
+    the standard problem (E = I).
+    """
+    a, e, a_norm, e_norm = pencil
+    ex = x if e is None else _apply(e, x)
+    r = _apply(a, x) - lam[:, None] * ex
+    return r, ex, np.linalg.norm(r, axis=1) / ((a_norm + np.abs(lam) * e_norm)
+                                                * np.linalg.norm(x, axis=1))
+
+
+def _newton_step(pencil, lam, x, c, r, ex):
+    """One bordered Newton step for a batch; r = A x - lam E x and ex = E x, (b, n)."""
+    a, e = pencil[:2]
     b, n = x.shape
-    eye = np.eye(n)
-    jac = np.zeros((b, n + 1, n + 1), dtype=complex)
-    jac[:, :n, :n] = a - lam[:, None, None] * eye
-    jac[:, :n, n] = -x
+    jac = np.empty((b, n + 1, n + 1), dtype=complex)
+    if e is None:
+        jac[:, :n, :n] = a
+        jac.reshape(b, -1)[:, 0:n * (n + 2):n + 2] -= lam[:, None]  # diagonal of the A block
+    else:
+        jac[:, :n, :n] = a - lam[:, None, None] * e
+    jac[:, :n, n] = -ex
     jac[:, n, :n] = np.conj(c)
-    rhs = np.empty((b, n + 1), dtype=complex)
-    rhs[:, :n] = -np.einsum("bij,bj->bi", jac[:, :n, :n], x)
-    rhs[:, n] = 1.0 - np.sum(np.conj(c) * x, axis=1)
-    step = np.linalg.solve(jac, rhs[..., None])[..., 0]
+    jac[:, n, n] = 0.0
+    rhs = np.empty((b, n + 1, 1), dtype=complex)
+    rhs[:, :n, 0] = -r
+    rhs[:, n, 0] = 1.0 - np.sum(np.conj(c) * x, axis=1)
+    step = np.linalg.solve(jac, rhs)[..., 0]
     return lam + step[:, n], x + step[:, :n]
 
 
-def _correct(a, lam, x, c, tol, max_iter):
+def _subset(pencil, part):
+    a, e, a_norm, e_norm = pencil
+    return (a[part], None if e is None else e[part], a_norm[part],
+            e_norm if np.isscalar(e_norm) else e_norm[part])
+
+
+def _correct(e, a, lam, x, c, tol, max_iter):
     """Newton iterations on the batch until each member's residual <= tol."""
-    a_norm = np.linalg.norm(a, axis=(1, 2))
-    res = _residual(a, lam, x, a_norm)
+    e_norm = 0.0 if e is None else np.linalg.norm(e, axis=(1, 2))
+    pencil = (a, e, np.linalg.norm(a, axis=(1, 2)), e_norm)
+    r, ex, res = _residual(pencil, lam, x)
     iters = np.zeros(lam.shape, dtype=int)
     for _ in range(max_iter):
         active = np.flatnonzero(res > tol)
         if active.size == 0:
             break
-        lam[active], x[active] = _newton_step(a[active], lam[active], x[active], c[active])
-        res[active] = _residual(a[active], lam[active], x[active], a_norm[active])
-        iters[active] += 1
+        part = slice(None) if active.size == lam.size else active
+        sub = pencil if active.size == lam.size else _subset(pencil, part)
+        lam[part], x[part] = _newton_step(sub, lam[part], x[part], c[part], r[part], ex[part])
+        r[part], ex[part], res[part] = _residual(sub, lam[part], x[part])
+        iters[part] += 1
     return lam, x, iters, res
 
 
@@ -160,9 +222,11 @@ def continue_eigenpairs(matrices, eigenvalues0, eigenvectors0, speeds=None, n_sp
 
     Parameters
     ----------
-    matrices : array (runs, speeds, n, n) or (speeds, n, n), or callable
-        State matrices [1/s]; a callable ``matrices(j) -> (runs, n, n)`` gives those of speed
-        index j (nothing is stored for all speeds at once).
+    matrices : array (runs, speeds, n, n) or (speeds, n, n), a tuple (E, A) of such arrays,
+        or a callable
+        State matrices A [1/s], or the descriptor pencil (E, A) of E x' = A x; a callable
+        ``matrices(j)`` returns A or (E, A), each (runs, n, n), for speed index j (nothing is
+        stored for all speeds at once).
     eigenvalues0 : array (runs, modes) complex
         Eigenvalues at the first speed [1/s] (e.g. from :func:`nearest_eigenpairs`).
     eigenvectors0 : array (runs, n, modes) complex
@@ -172,7 +236,8 @@ def continue_eigenpairs(matrices, eigenvalues0, eigenvectors0, speeds=None, n_sp
     n_speeds : int, optional
         Number of speeds when ``matrices`` is callable and ``speeds`` is not given.
     tol : float
-        Relative residual tolerance ||A x - lambda x|| / (||A||_F ||x||).
+        Relative residual tolerance ||A x - lambda E x|| / ((||A||_F + |lambda| ||E||_F) ||x||)
+        (||E||_F taken as 0 for the standard problem).
     max_iter : int
         Newton steps allowed per speed.
     keep_vectors : bool
@@ -187,21 +252,26 @@ def continue_eigenpairs(matrices, eigenvalues0, eigenvectors0, speeds=None, n_sp
     runs, n, modes = vec0.shape
     lam, x = _flat(lam0).copy(), _flat(vec0).copy()
     x /= np.linalg.norm(x, axis=1, keepdims=True)
-    lam, x, iters, res = _correct(np.repeat(get(0), modes, axis=0), lam, x, x.copy(),
-                                  tol, max_iter)
+    lam, x, iters, res = _correct(*_per_mode(get(0), modes), lam, x, x.copy(), tol, max_iter)
     out = _Recorder(runs, n_speeds, n, modes, keep_vectors)
     out.store(0, lam, x, iters, res, np.ones_like(res))
     history = [(grid[0], lam.copy(), x.copy())]
     for j in range(1, n_speeds):
-        a = np.repeat(get(j), modes, axis=0)
+        e, a = _per_mode(get(j), modes)
         lam_p, x_p = _extrapolate(history, grid[j])
         c = history[-1][2]
         x_p = x_p / np.sum(np.conj(c) * x_p, axis=1, keepdims=True)
-        lam, x, iters, res = _correct(a, lam_p, x_p, c, tol, max_iter)
+        lam, x, iters, res = _correct(e, a, lam_p, x_p, c, tol, max_iter)
         x /= np.linalg.norm(x, axis=1, keepdims=True)
         out.store(j, lam, x, iters, res, mac(c[..., None], x[..., None])[:, 0])
         history = (history + [(grid[j], lam.copy(), x.copy())])[-3:]
     return out.result(tol)
+
+
+def _per_mode(pencil, modes):
+    """Repeat each run's (E, A) once per tracked mode (the flattened batch order)."""
+    e, a = pencil
+    return (None if e is None else np.repeat(e, modes, axis=0)), np.repeat(a, modes, axis=0)
 
 
 class _Recorder:

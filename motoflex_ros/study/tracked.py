@@ -6,6 +6,15 @@ one speed [m/s] for the stiffnesses ``values`` ({factor: array (runs,)} [N m/rad
 ``start(A0) -> (eigenvalues (runs, modes), eigenvectors (runs, n, modes))`` that picks the
 modes at the first speed (by mode shape, for weave and wobble). The modes are then followed
 over the speed grid by eigenpair continuation (:mod:`motoflex_ros.study.continuation`).
+``state_matrices`` may also return the descriptor pencil (E, A) of E x' = A x (massless
+bodies make E singular).
+
+A joint spring enters the linearized equations linearly (generalised force -k q), so for a
+lumped-stiffness vehicle A(v; k) = A(v; k_nom) + sum_i (k_i - k_nom,i) D_i with constant
+D_i = dA/dk_i. :class:`LinearStiffnessPencil` builds every run's pencil that way from one
+nominal linearization (E(v), A(v) as speed polynomials, e.g. the vehicle engine's
+LinearVehicle.E_coeffs / A_coeffs) and :func:`stiffness_directions` finds the D_i by
+differences of linearizations, checking the linearity.
 """
 from dataclasses import dataclass, field
 
@@ -14,7 +23,8 @@ import numpy as np
 from motoflex_ros.errors import ModelError
 from motoflex_ros.study.continuation import continue_eigenpairs, nearest_eigenpairs
 
-__all__ = ["NearestTargets", "TrackedModeStudy"]
+__all__ = ["NearestTargets", "TrackedModeStudy", "LinearStiffnessPencil",
+           "stiffness_directions"]
 
 
 @dataclass(frozen=True)
@@ -24,14 +34,18 @@ class NearestTargets:
     targets: tuple
 
     def __call__(self, matrices):
-        return nearest_eigenpairs(matrices, np.asarray(self.targets, dtype=complex))
+        targets = np.asarray(self.targets, dtype=complex)
+        if isinstance(matrices, tuple):
+            return nearest_eigenpairs(matrices[1], targets, descriptor=matrices[0])
+        return nearest_eigenpairs(matrices, targets)
 
 
 @dataclass(frozen=True)
 class TrackedModeStudy:
     """Study function {factor: array (runs,)} -> {mode: eigenvalues (runs, speeds)}.
 
-    state_matrices: callable (values, speed [m/s]) -> (runs, n, n) [1/s]; speeds: grid [m/s];
+    state_matrices: callable (values, speed [m/s]) -> A (runs, n, n) [1/s] or a pencil (E, A);
+    speeds: grid [m/s];
     start: callable A0 -> start eigenpairs, one per mode, in the order of ``modes``; modes:
     output names; tol: continuation residual tolerance; min_step_mac: below this MAC between
     consecutive eigenvectors the grid is too coarse to trust the tracking (ModelError).
@@ -62,3 +76,64 @@ class TrackedModeStudy:
         outputs = {mode: result.eigenvalues[:, :, i] for i, mode in enumerate(self.modes)}
         outputs.update({f"{mode}_step_mac": step_mac[:, i] for i, mode in enumerate(self.modes)})
         return outputs
+
+
+@dataclass(frozen=True, eq=False)
+class LinearStiffnessPencil:
+    """Pencils E(v), A(v; k) of a vehicle whose joint stiffnesses are the factors.
+
+    E_coeffs, A_coeffs: (degree + 1, n, n) speed-polynomial coefficients at the nominal
+    stiffness (E(v) = sum_p v^p E_p); directions: {factor: D_i (n, n)} = dA/dk_i
+    [1/s per N m/rad]; nominal: {factor: k_nom,i} [N m/rad]. Called as a study's
+    ``state_matrices(values, speed)``, returns (E, A), each (runs, n, n).
+    """
+
+    E_coeffs: np.ndarray
+    A_coeffs: np.ndarray
+    directions: dict
+    nominal: dict
+
+    def __call__(self, values, speed):
+        powers = float(speed) ** np.arange(len(self.A_coeffs))
+        e = np.tensordot(powers, self.E_coeffs, axes=1)
+        a = np.tensordot(powers, self.A_coeffs, axes=1)
+        names = list(self.directions)
+        delta = np.column_stack([np.asarray(values[f], float) - self.nominal[f] for f in names])
+        stacked = np.stack([self.directions[f] for f in names])
+        a_runs = a + np.tensordot(delta, stacked, axes=1)
+        return np.broadcast_to(e, a_runs.shape), a_runs
+
+
+def stiffness_directions(matrix_of, nominal, rel_step=0.1, tol=1e-8):
+    """D_i = dM/dk_i of a matrix linear in each stiffness, by a difference, checked.
+
+    Parameters
+    ----------
+    matrix_of : callable
+        ``matrix_of({factor: k}) -> array`` (e.g. the speed-independent coefficient A_0 of a
+        linearized vehicle with those joint stiffnesses [N m/rad]).
+    nominal : mapping
+        Nominal stiffness of every factor [N m/rad].
+    rel_step : float
+        The difference step, relative to the nominal value.
+    tol : float
+        Allowed relative mismatch of the opposite-side difference (linearity check).
+
+    Returns
+    -------
+    {factor: D_i}
+
+    """
+    base = np.asarray(matrix_of(dict(nominal)), dtype=float)
+    scale = max(float(np.max(np.abs(base))), 1.0)
+    directions = {}
+    for name, k in nominal.items():
+        step = rel_step * float(k)
+        up = np.asarray(matrix_of({**nominal, name: k + step}), dtype=float)
+        down = np.asarray(matrix_of({**nominal, name: k - step}), dtype=float)
+        directions[name] = (up - base) / step
+        mismatch = float(np.max(np.abs(up + down - 2.0 * base))) / scale
+        if mismatch > tol:
+            raise ModelError(f"the matrix is not linear in stiffness {name} (relative "
+                             f"mismatch {mismatch:.1e}); a linear stiffness pencil needs it")
+    return directions

@@ -1,0 +1,100 @@
+"""The vehicle-to-study plug: linear stiffness pencils with a massless coordinate."""
+import numpy as np
+import pytest
+import scipy.linalg
+
+from motoflex_ros.errors import ModelError
+from motoflex_ros.study.factorial import FACTORS, PAPER_TABLE2_NOMINAL, full_factorial
+from motoflex_ros.study.tracked import (
+    LinearStiffnessPencil,
+    NearestTargets,
+    TrackedModeStudy,
+    stiffness_directions,
+)
+
+RNG = np.random.default_rng(17)
+NQ = 4
+MASS = np.diag([1.0, 2.0, 1.5, 0.0])  # last coordinate massless: E is singular
+SPRINGS = RNG.standard_normal((6, NQ))
+K_BASE = 50.0 * np.eye(NQ)
+DAMPING = 0.4 * np.eye(NQ) + 0.1 * np.ones((NQ, NQ))
+GYRO = np.array([[0, 1.0, 0, 0], [-1.0, 0, 0.5, 0], [0, -0.5, 0, 0], [0, 0, 0, 0]])
+K2 = 0.01 * RNG.standard_normal((NQ, NQ))
+
+
+def stiffness(k):
+    """K(k) = K_base + sum_i 40 k_i / k_nom,i s_i s_i^T [N m/rad]."""
+    total = K_BASE.copy()
+    for i, name in enumerate(FACTORS):
+        total += 40.0 * k[name] / PAPER_TABLE2_NOMINAL[name] * np.outer(SPRINGS[i], SPRINGS[i])
+    return total
+
+
+def state_coefficient(k, power):
+    """Coefficient of v^power of A(v; k) for the state (q, u)."""
+    a = np.zeros((2 * NQ, 2 * NQ))
+    if power == 0:
+        a[:NQ, NQ:] = np.eye(NQ)
+        a[NQ:, :NQ], a[NQ:, NQ:] = -stiffness(k), -DAMPING
+    elif power == 1:
+        a[NQ:, NQ:] = -GYRO
+    else:
+        a[NQ:, :NQ] = -K2
+    return a
+
+
+E0 = scipy.linalg.block_diag(np.eye(NQ), MASS)
+
+
+def pencil_of_vehicle():
+    nominal = dict(PAPER_TABLE2_NOMINAL)
+    a_coeffs = np.stack([state_coefficient(nominal, p) for p in range(3)])
+    e_coeffs = np.stack([E0, np.zeros_like(E0), np.zeros_like(E0)])
+    directions = stiffness_directions(lambda k: state_coefficient(k, 0), nominal)
+    return LinearStiffnessPencil(e_coeffs, a_coeffs, directions, nominal)
+
+
+def test_directions_are_the_stiffness_derivatives_analytic():
+    directions = stiffness_directions(lambda k: state_coefficient(k, 0), PAPER_TABLE2_NOMINAL)
+    for i, name in enumerate(FACTORS):
+        expected = np.zeros((2 * NQ, 2 * NQ))
+        expected[NQ:, :NQ] = -40.0 / PAPER_TABLE2_NOMINAL[name] * np.outer(SPRINGS[i],
+                                                                               SPRINGS[i])
+        np.testing.assert_allclose(directions[name], expected, rtol=1e-9,
+                                   atol=1e-12 * np.abs(expected).max())
+
+
+def test_nonlinear_stiffness_is_refused():
+    with pytest.raises(ModelError, match="not linear in stiffness k_tf"):
+        stiffness_directions(lambda k: np.array([[k["k_tf"] ** 2 / 1e10]]),
+                             {"k_tf": 3.75e5})
+
+
+def finite_eigenvalues(a, e):
+    values = scipy.linalg.eig(a, e, right=False)
+    return values[np.isfinite(values)]
+
+
+def test_tracked_pencil_study_matches_scipy_generalized_eig():
+    pencil = pencil_of_vehicle()
+    speeds = np.linspace(5.0, 40.0, 71)
+    nominal_values = finite_eigenvalues(state_coefficient(PAPER_TABLE2_NOMINAL, 0) + speeds[0]
+                                        * state_coefficient(PAPER_TABLE2_NOMINAL, 1)
+                                        + speeds[0] ** 2
+                                        * state_coefficient(PAPER_TABLE2_NOMINAL, 2), E0)
+    assert nominal_values.size == 2 * NQ - 1  # one first-order mode from the massless one
+    upper = np.sort_complex(nominal_values[nominal_values.imag > 0] * 1j) / 1j
+    study = TrackedModeStudy(state_matrices=pencil, speeds=tuple(speeds),
+                             start=NearestTargets(targets=(upper[-1], upper[0])))
+    design = full_factorial(PAPER_TABLE2_NOMINAL, levels=2)
+    values = design.values(0, 8)
+    out = study(values)
+    for r in range(8):
+        k = {name: values[name][r] for name in FACTORS}
+        current = np.array([out["weave"][r, 0], out["wobble"][r, 0]])
+        for j, v in enumerate(speeds):
+            a = sum(v**p * state_coefficient(k, p) for p in range(3))
+            reference = finite_eigenvalues(a, E0)
+            current = reference[np.argmin(np.abs(reference[:, None] - current), axis=0)]
+            np.testing.assert_allclose([out["weave"][r, j], out["wobble"][r, j]], current,
+                                       atol=1e-9)
