@@ -75,17 +75,20 @@ def finite_eigenvalues(a, e):
     return values[np.isfinite(values)]
 
 
+def nominal_targets(speed):
+    """Highest- and lowest-frequency oscillatory modes of the nominal pencil at ``speed``."""
+    k = PAPER_TABLE2_NOMINAL
+    values = finite_eigenvalues(sum(speed**p * state_coefficient(k, p) for p in range(3)), E0)
+    assert values.size == 2 * NQ - 1  # one first-order mode from the massless coordinate
+    upper = np.sort_complex(values[values.imag > 0] * 1j) / 1j
+    return (upper[-1], upper[0])
+
+
 def test_tracked_pencil_study_matches_scipy_generalized_eig():
     pencil = pencil_of_vehicle()
     speeds = np.linspace(5.0, 40.0, 71)
-    nominal_values = finite_eigenvalues(state_coefficient(PAPER_TABLE2_NOMINAL, 0) + speeds[0]
-                                        * state_coefficient(PAPER_TABLE2_NOMINAL, 1)
-                                        + speeds[0] ** 2
-                                        * state_coefficient(PAPER_TABLE2_NOMINAL, 2), E0)
-    assert nominal_values.size == 2 * NQ - 1  # one first-order mode from the massless one
-    upper = np.sort_complex(nominal_values[nominal_values.imag > 0] * 1j) / 1j
     study = TrackedModeStudy(state_matrices=pencil, speeds=tuple(speeds),
-                             start=NearestTargets(targets=(upper[-1], upper[0])))
+                             start=NearestTargets(targets=nominal_targets(speeds[0])))
     design = full_factorial(PAPER_TABLE2_NOMINAL, levels=2)
     values = design.values(0, 8)
     out = study(values)
@@ -98,3 +101,24 @@ def test_tracked_pencil_study_matches_scipy_generalized_eig():
             current = reference[np.argmin(np.abs(reference[:, None] - current), axis=0)]
             np.testing.assert_allclose([out["weave"][r, j], out["wobble"][r, j]], current,
                                        atol=1e-9)
+
+
+def test_local_process_cluster_single_thread_blas_and_identical_results():
+    """A study of arrays only (picklable by reference) on a 1-process LocalCluster."""
+    import os
+
+    from distributed import Client
+
+    from motoflex_ros.study.runner import local_cluster, run_study
+
+    study = TrackedModeStudy(state_matrices=pencil_of_vehicle(),
+                             speeds=tuple(np.linspace(5.0, 40.0, 36)),
+                             start=NearestTargets(targets=nominal_targets(5.0)))
+    design = full_factorial(PAPER_TABLE2_NOMINAL, levels=2)
+    here = run_study(study, design, progress=False, block_size=16)
+    with local_cluster(n_workers=1) as cluster, Client(cluster) as client:
+        env = client.run(os.getenv, "OPENBLAS_NUM_THREADS")
+        there = run_study(study, design, scheduler=client, progress=False, block_size=16)
+    assert list(env.values()) == ["1"]
+    for name, values in here.outputs.items():
+        np.testing.assert_array_equal(there.outputs[name], values)
