@@ -1,0 +1,111 @@
+"""The offline bench campaign: drives the four stage objects exactly as the ROS 2 graph does.
+
+Per sample, in this order: ``LoadActuator.next_sample`` -> ``ComponentSimulator.step`` ->
+``MarkerSensor.capture`` (noise drawn from the seeded generator) -> ``Identifier.add_load`` and
+``Identifier.add_measurement`` for each delivered measurement; when the identifier reports a
+harmonic test settled, ``LoadActuator.end_test``. At the end the sensor is flushed and the
+readings are turned into the identified models. A graph that forwards the same samples in the
+same order gives the same numbers.
+"""
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from motoflex_ros.bench.actuator import LoadActuator
+from motoflex_ros.bench.modes import clamped_modes
+from motoflex_ros.bench.plan import plan_campaign
+from motoflex_ros.bench.protocols import load_protocol, protocol_for
+from motoflex_ros.bench.response import ComponentSimulator
+from motoflex_ros.bench.sensor import MarkerSensor, rotation_from_vector
+from motoflex_ros.identify.identifier import Identifier
+from motoflex_ros.identify.results import identify_component
+
+__all__ = ["CampaignSetup", "CampaignRun", "setup_campaign", "make_stages", "run_campaign",
+           "identify_components"]
+
+
+@dataclass(frozen=True)
+class CampaignSetup:
+    """A component's reduced model, its modes and the planned protocol."""
+
+    name: str
+    reduced: object
+    modes: object
+    protocol: object
+    plan: object
+
+
+@dataclass(frozen=True)
+class CampaignRun:
+    """Result of one campaign: the identification, the readings and the sample count."""
+
+    identification: object
+    readings: dict
+    n_samples: int
+    trace: dict = None
+
+
+def setup_campaign(component, protocol=None, noise_m=None):
+    """CampaignSetup of a component (name, file or Component) with a protocol (name, file,
+    Protocol or None for the component's shipped protocol); noise_m [m] overrides the sensor.
+    """
+    from motoflex_ros.structures.components import load_component
+    comp = load_component(component) if isinstance(component, str) else component
+    reduced = comp.clamped_reduced()
+    if protocol is None:
+        protocol = protocol_for(comp.name)
+    elif isinstance(protocol, str):
+        protocol = load_protocol(protocol)
+    if noise_m is not None:
+        protocol = replace(protocol, sensor=replace(protocol.sensor, noise_m=float(noise_m)))
+    modes = clamped_modes(reduced)
+    return CampaignSetup(comp.name, reduced, modes, protocol,
+                         plan_campaign(protocol, reduced, modes))
+
+
+def make_stages(setup, seed=0):
+    """The four stage objects of a campaign: actuator, simulator, sensor, identifier."""
+    q0 = setup.reduced.q0
+    return (LoadActuator(setup.plan), ComponentSimulator(setup.reduced),
+            MarkerSensor(setup.protocol.sensor, q0, seed),
+            Identifier(q0, setup.protocol.harmonic))
+
+
+def _deliver(identifier, actuator, measurements):
+    for m in measurements:
+        done = identifier.add_measurement(m)
+        if done:
+            actuator.end_test(done)
+
+
+def run_campaign(setup, seed=0, trace=False):
+    """Run the whole campaign offline; ``trace`` keeps (t, force, true motion, test) arrays."""
+    actuator, simulator, sensor, identifier = make_stages(setup, seed)
+    q0 = np.asarray(setup.reduced.q0, float)
+    rows, n = [], 0
+    while (sample := actuator.next_sample()) is not None:
+        motion = simulator.step(sample)
+        identifier.add_load(sample)
+        position, rotation = q0 + motion[:3], rotation_from_vector(motion[3:])
+        _deliver(identifier, actuator, sensor.capture(sample.index, sample.t, position,
+                                                      rotation))
+        if trace:
+            rows.append((sample.t, sample.force, sample.test, motion.copy()))
+        n += 1
+    _deliver(identifier, actuator, sensor.flush())
+    readings = identifier.readings()
+    result = identify_component(setup.name, readings, setup.modes, q0)
+    table = None
+    if trace:
+        table = {"t": np.array([r[0] for r in rows]), "force": np.array([r[1] for r in rows]),
+                 "test": [r[2] for r in rows], "motion": np.array([r[3] for r in rows])}
+    return CampaignRun(result, readings, n, table)
+
+
+def identify_components(components, protocol=None, noise_m=None, seed=0):
+    """Run the campaign of each component; returns {name: (CampaignSetup, CampaignRun)}."""
+    out = {}
+    for component in components:
+        setup = setup_campaign(component, protocol, noise_m)
+        out[setup.name] = (setup, run_campaign(setup, seed))
+    return out

@@ -1,0 +1,166 @@
+"""A protocol planned for one component: concrete tests with frequencies, rates and lengths.
+
+Planning resolves mode names to the component's eigenfrequencies and rejects protocols that
+cannot be run as described (:class:`motoflex_ros.errors.ProtocolError`): a ramp too fast for
+the first mode, a frequency at or above the sensor's Nyquist rate, a sweep that does not end
+below the first eigenfrequency.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from motoflex_ros.bench.modes import clamped_modes
+from motoflex_ros.bench.protocols import MATCH_STATIC
+from motoflex_ros.bench.response import harmonic_peak_motion
+from motoflex_ros.errors import ProtocolError
+
+__all__ = ["TestPlan", "CampaignPlan", "plan_campaign", "sweep_frequencies", "onset_times",
+           "matched_amplitude"]
+
+
+@dataclass(frozen=True)
+class TestPlan:
+    """One test. kind: 'static', 'harmonic', 'sweep' or 'decay'. rate_hz [Hz] sample rate,
+    max_samples the longest it may run, amplitude_n [N] (F_st, amplitude or preload),
+    frequency_hz [Hz] (harmonic), ramp_time_s [s] (static), onset_time_s [s] (load envelope) and
+    read_time_s [s] (peaks read after it) of harmonic tests."""
+
+    name: str
+    kind: str
+    rate_hz: float
+    max_samples: int
+    amplitude_n: float
+    frequency_hz: float = 0.0
+    ramp_time_s: float = 0.0
+    onset_time_s: float = 0.0
+    read_time_s: float = 0.0
+
+
+@dataclass(frozen=True)
+class CampaignPlan:
+    """All tests of a campaign in order, with the protocol and the component's modes."""
+
+    tests: tuple
+    protocol: object
+    modes: object
+
+    def test(self, name):
+        """The test called ``name``."""
+        return next(t for t in self.tests if t.name == name)
+
+
+def _check_rate(name, frequency, sensor):
+    if frequency >= sensor.nyquist_hz:
+        raise ProtocolError(f"test '{name}': frequency {frequency:.6g} Hz is at or above the "
+                            f"Nyquist rate {sensor.nyquist_hz:.6g} Hz of the sensor "
+                            f"(max_rate_hz {sensor.max_rate_hz:.6g})")
+
+
+def _static(protocol, modes):
+    s = protocol.static
+    f1 = modes.first_lateral().f_hz
+    if s.ramp_time_s * f1 < s.min_ramp_periods:
+        raise ProtocolError(
+            f"static test: ramp_time_s {s.ramp_time_s:g} s is shorter than min_ramp_periods "
+            f"{s.min_ramp_periods:g} periods of the first mode ({f1:.4g} Hz), i.e. "
+            f"{s.min_ramp_periods / f1:.4g} s; the ramp would excite the dynamics")
+    if s.sample_rate_hz > protocol.sensor.max_rate_hz:
+        raise ProtocolError(f"static test: sample_rate_hz {s.sample_rate_hz:g} exceeds the "
+                            f"sensor's max_rate_hz {protocol.sensor.max_rate_hz:g}")
+    n = round((s.ramp_time_s + s.hold_time_s) * s.sample_rate_hz) + 1
+    return TestPlan("static", "static", s.sample_rate_hz, n, s.force_n,
+                    ramp_time_s=round(s.ramp_time_s * s.sample_rate_hz) / s.sample_rate_hz)
+
+
+def onset_times(frequency, settings, modes):
+    """Envelope duration and reading start [s] of a harmonic test, in whole periods.
+
+    The load amplitude rises smoothly over the envelope duration: at least ``onset_periods``
+    periods and ``onset_beat_cycles`` beats 1/|f_i - f| with every torsion/bending mode f_i
+    not at resonance (a smooth onset much longer than the beat period hardly excites the free
+    vibration of mode i, so the response starts close to its steady state). When f lies in the
+    half-power band of a mode (|f - f_i| <= 2 zeta_i f_i: a resonance test) that mode's
+    amplitude still has to build up, which takes a few time constants 1/(zeta_i w_i) (16
+    periods at zeta = 0.01) whatever the envelope; the peaks are then read only after a further
+    ``onset_time_constants`` time constants.
+    """
+    envelope, wait = settings.onset_periods / frequency, 0.0
+    for mode in modes.modes:
+        if mode.label not in ("torsion", "bending"):
+            continue
+        gap = abs(mode.f_hz - frequency)
+        if gap <= 2.0 * mode.zeta * mode.f_hz:
+            wait = max(wait, settings.onset_time_constants / (mode.zeta * mode.omega_n))
+        else:
+            envelope = max(envelope, settings.onset_beat_cycles / gap)
+    envelope = math.ceil(envelope * frequency - 1e-9) / frequency
+    return envelope, envelope + math.ceil(wait * frequency - 1e-9) / frequency
+
+
+def _harmonic(name, kind, frequency, amplitude, protocol, modes):
+    _check_rate(name, frequency, protocol.sensor)
+    h = protocol.harmonic
+    rate = min(h.samples_per_period * frequency, protocol.sensor.max_rate_hz)
+    onset, read = onset_times(frequency, h, modes)
+    n = int(math.ceil((read + h.max_periods / frequency) * rate)) + 1
+    return TestPlan(name, kind, rate, n, amplitude, frequency_hz=frequency, onset_time_s=onset,
+                    read_time_s=read)
+
+
+def sweep_frequencies(sweep, first_hz):
+    """Sweep frequencies [Hz]: start_hz, start_hz + step_hz, ... and the end frequency."""
+    end = sweep.end_hz if sweep.end_hz is not None else first_hz - sweep.end_below_first_hz
+    if end >= first_hz:
+        raise ProtocolError(f"sweep: ends at {end:.6g} Hz, which is not below the first "
+                            f"eigenfrequency {first_hz:.6g} Hz")
+    if end < sweep.start_hz:
+        raise ProtocolError(f"sweep: ends at {end:.6g} Hz, below its start_hz "
+                            f"{sweep.start_hz:g} Hz")
+    freqs = list(np.arange(sweep.start_hz, end - 1e-9 * end, sweep.step_hz))
+    return tuple(float(f) for f in freqs) + (float(end),)
+
+
+def _decay(protocol, modes):
+    m = protocol.modal
+    targets = [modes.first(label).f_hz for label in ("torsion", "bending")]
+    f_low, f_high = min(targets), max(targets)
+    _check_rate("modal", f_high, protocol.sensor)
+    rate = min(m.samples_per_period * f_high, protocol.sensor.max_rate_hz)
+    n = int(math.ceil(m.decay_periods * rate / f_low)) + 2
+    return TestPlan("decay", "decay", rate, n, m.preload_n)
+
+
+def _deformation_size(end_motion, length):
+    """max(|u|, L |theta|) of a loaded-end motion [m]."""
+    return max(np.linalg.norm(end_motion[:3]), length * np.linalg.norm(end_motion[3:]))
+
+
+def matched_amplitude(reduced, frequency, static_force):
+    """Force amplitude [N] whose steady peak deformation at frequency [Hz] equals that of the
+    static force [N] (deformation measured as max(|u|, L |theta|) at the loaded end)."""
+    length = float(np.linalg.norm(reduced.q0))
+    load = np.zeros(reduced.K.shape[0])
+    load[reduced.end_dofs[1]] = static_force
+    static = np.linalg.solve(reduced.K, load)[reduced.end_dofs]
+    dynamic = harmonic_peak_motion(reduced, frequency)
+    return _deformation_size(static, length) / _deformation_size(dynamic, length)
+
+
+def plan_campaign(protocol, reduced, modes=None):
+    """CampaignPlan of ``protocol`` for a ReducedComponent (its ModeSet computed if None)."""
+    modes = modes if modes is not None else clamped_modes(reduced)
+    tests = [_static(protocol, modes)]
+    for t in protocol.harmonic_tests:
+        freq = modes.frequency(t.frequency) if isinstance(t.frequency, str) else t.frequency
+        amp = t.amplitude_n
+        if amp == MATCH_STATIC:
+            amp = matched_amplitude(reduced, freq, protocol.static.force_n)
+        tests.append(_harmonic(t.name, "harmonic", freq, amp, protocol, modes))
+    if protocol.sweep is not None:
+        for i, f in enumerate(sweep_frequencies(protocol.sweep, modes.first_lateral().f_hz)):
+            tests.append(_harmonic(f"sweep_{i:02d}", "sweep", f, protocol.sweep.amplitude_n,
+                                   protocol, modes))
+    if protocol.modal is not None:
+        tests.append(_decay(protocol, modes))
+    return CampaignPlan(tuple(tests), protocol, modes)

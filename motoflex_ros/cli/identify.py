@@ -1,0 +1,79 @@
+"""``motoflex identify``: the bench campaign offline (no ROS), per component.
+
+Static test, harmonic tests at the first torsion and bending frequencies, the sweep and the
+modal test (Passigato et al. 2023, Sect. 4.2); prints a table or, with --json, the results
+{component: {"static", "torsion", "bending", "k_t", "k_b", "sweep", ...}} (angles rad, lengths
+m, stiffness N m/rad), optionally writes them to a YAML/JSON file and the Figs. 5-7 plots.
+"""
+import json
+import sys
+from pathlib import Path
+
+import yaml
+
+from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table, to_jsonable
+
+__all__ = ["register", "run", "DEFAULT_COMPONENTS"]
+
+DEFAULT_COMPONENTS = ("frame", "front_assembly", "swingarm")
+
+
+def register(subparsers):
+    """Add the ``identify`` verb."""
+    p = subparsers.add_parser("identify", help="identify lumped stiffness models on the bench",
+                              description=__doc__.splitlines()[0])
+    p.add_argument("--component", action="append", metavar="NAME|FILE",
+                   help="component (shipped name or YAML file); repeatable; default: frame, "
+                        "front_assembly, swingarm")
+    p.add_argument("--protocol", metavar="FILE",
+                   help="protocol YAML (default: the component's shipped protocol)")
+    p.add_argument("--noise", type=float, metavar="SIGMA",
+                   help="sensor noise standard deviation [m] (overrides the protocol)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the sensor noise (default 0)")
+    p.add_argument("--out", metavar="FILE", help="write the results (.yaml/.yml or .json)")
+    p.add_argument("--json", action="store_true", help="print the results as JSON only")
+    p.add_argument("--plot", metavar="DIR", help="write the Figs. 5-7 axis plots to DIR")
+    p.set_defaults(func=run)
+
+
+def _table(results):
+    rows = []
+    for name, comp in results.items():
+        for test in ("static", "torsion", "bending"):
+            r = comp[test]
+            rows.append([name, test, f"{r['l']:.4f}", f"{r['beta']:.4f}", f"{r['b']:.4f}",
+                         f"{r['k']:.4g}", f"{r.get('f_hz', 0.0):.2f}"])
+        rows.append([name, "split", "", "", "", f"k_t {comp['k_t']:.4g}",
+                     f"k_b {comp['k_b']:.4g}"])
+    print_table(["component", "test", "l [m]", "beta [rad]", "b [m]", "k [N m/rad]",
+                 "f [Hz]"], rows)
+
+
+def _write(path, results):
+    path = Path(path)
+    data = to_jsonable(results)
+    if path.suffix in (".yaml", ".yml"):
+        text = yaml.safe_dump(data, sort_keys=False)
+    else:
+        text = json.dumps(data, indent=1, allow_nan=False) + "\n"
+    atomic_write_text(path, text)
+
+
+def run(args):
+    """Run the campaign of each component; returns the exit code."""
+    from motoflex_ros.bench.campaign import identify_components
+    components = args.component or list(DEFAULT_COMPONENTS)
+    runs = identify_components(components, args.protocol, args.noise, args.seed)
+    results = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
+    if args.out:
+        _write(args.out, results)
+    if args.plot:
+        from motoflex_ros.plots.axes import plot_component_axes
+        for name, (setup, run) in runs.items():
+            plot_component_axes(setup, run.identification, Path(args.plot) / f"{name}_axes.png")
+    if args.json:
+        emit_json(results)
+    else:
+        _table(results)
+        sys.stdout.flush()
+    return 0

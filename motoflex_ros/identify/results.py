@@ -1,0 +1,170 @@
+"""Identified lumped stiffness models of one component from its bench readings.
+
+Static model: l, beta, b (eqs. 1-7) of the mean pose in the hold phase, k by eq. (8), c = gamma
+k. Torsion and bending models: l, beta, b as the mean over the peaks of the harmonic tests at
+the first torsion / bending eigenfrequency, k by eq. (8) with F_st, y_qst of the static test and
+the harmonic arm b, J and c by eqs. (10)-(11) with omega_n, zeta of the mode's eigenvalue
+(eq. 9). k_t, k_b by eq. (12). Every value carries a 95 % interval from the measurement scatter
+(:mod:`motoflex_ros.identify.uncertainty`).
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from motoflex_ros.identify.axis import axis_stiffness
+from motoflex_ros.identify.decay import match_pole
+from motoflex_ros.identify.decomposition import decompose_stiffness
+from motoflex_ros.identify.peaks import axis_of_pose, unwrap_angle
+from motoflex_ros.identify.stiffness import modal_damping, modal_inertia, static_damping
+from motoflex_ros.identify.uncertainty import LEVEL, interval, propagate
+
+__all__ = ["AxisModel", "ComponentIdentification", "identify_component", "static_model"]
+
+
+@dataclass(frozen=True)
+class AxisModel:
+    """A lumped model or axis: values by name (l [m], beta [rad], b [m], k [N m/rad], J
+    [kg m^2], c [N m s/rad], f_hz [Hz]), their intervals and bookkeeping (counts, flags)."""
+
+    values: dict
+    ci: dict
+    info: dict = field(default_factory=dict)
+
+    def __getitem__(self, key):
+        return self.values[key]
+
+    def to_dict(self):
+        """Values with their intervals (and counts) under 'ci'."""
+        return {**self.values, "ci": {**self.ci, "level": LEVEL, **self.info}}
+
+
+@dataclass(frozen=True)
+class ComponentIdentification:
+    """All results of one component: static, torsion, bending models, k_t, k_b, the sweep,
+    other harmonic tests and the modal data (eigenvalue and free decay)."""
+
+    name: str
+    static: AxisModel
+    torsion: AxisModel
+    bending: AxisModel
+    split: AxisModel
+    sweep: tuple
+    modal: dict
+    others: dict
+
+    def to_dict(self):
+        """The JSON/YAML shape the vehicle side reads."""
+        out = {"static": self.static.to_dict(), "torsion": self.torsion.to_dict(),
+               "bending": self.bending.to_dict(), **self.split.values,
+               "ci": {**self.split.ci, "level": LEVEL},
+               "sweep": [s.to_dict() for s in self.sweep], "modal": self.modal}
+        out.update({name: m.to_dict() for name, m in self.others.items()})
+        return out
+
+
+def _static_values(pose, force, q0, reference_beta):
+    axis = axis_of_pose(pose, q0)
+    beta = unwrap_angle(axis.beta, reference_beta)
+    return np.array([axis.l, beta, axis.b, axis_stiffness(force, pose[1], axis.b)])
+
+
+def _pose_steps(pose):
+    scale_q = max(np.abs(pose[:3]).max(), 1e-12)
+    scale_r = max(np.abs(pose[3:]).max(), 1e-15)
+    return np.r_[np.full(3, 1e-6 * scale_q), np.full(3, 1e-6 * scale_r)]
+
+
+def static_model(reading, q0):
+    """Static model (eqs. 1-8, c = gamma k) with intervals; also returns cov of (l, beta, b, k)."""
+    beta0 = axis_of_pose(reading.pose, q0).beta
+    values, cov = propagate(lambda p: _static_values(p, reading.force, q0, beta0),
+                            reading.pose, reading.cov, _pose_steps(reading.pose))
+    names = ("l", "beta", "b", "k")
+    ci = {n: interval(v, cov[i, i]) for i, (n, v) in enumerate(zip(names, values))}
+    values = dict(zip(names, map(float, values)))
+    values["beta"] = float(np.mod(values["beta"], np.pi))
+    values["c"] = static_damping(values["k"])
+    ci["c"] = [static_damping(x) for x in ci["k"]]
+    return AxisModel(values, ci, {"n_samples": reading.n_samples}), cov
+
+
+def _harmonic_axis(reading):
+    mean, cov = reading.mean()
+    mean = mean.copy()
+    mean[1] = float(np.mod(mean[1], np.pi))
+    dof = max(reading.n_peaks - 1, 1)
+    ci = {n: interval(mean[i], cov[i, i], dof) for i, n in enumerate(("l", "beta", "b"))}
+    info = {"n_peaks": reading.n_peaks, "n_samples": reading.n_samples,
+            "settled": reading.settled}
+    return dict(zip(("l", "beta", "b"), map(float, mean))), cov, ci, info
+
+
+def _mode_model(reading, static_reading, mode):
+    """Torsion or bending model: axis from the peaks, k by eq. (8), J, c by eqs. (10)-(11)."""
+    values, cov, ci, info = _harmonic_axis(reading)
+    force, y_st = static_reading.force, static_reading.pose[1]
+    x = np.array([values["b"], y_st])
+    k, var = propagate(lambda v: np.array([axis_stiffness(force, v[1], v[0])]), x,
+                       np.diag([cov[2, 2], static_reading.cov[1, 1]]),
+                       1e-6 * np.abs(x))
+    k = float(k[0])
+    inertia = modal_inertia(k, mode.omega_n)
+    values.update(k=k, J=inertia, c=modal_damping(mode.zeta, inertia, mode.omega_n),
+                  f_hz=float(reading.frequency_hz))
+    ci["k"] = interval(k, var[0, 0])
+    ci["J"] = [modal_inertia(v, mode.omega_n) for v in ci["k"]]
+    ci["c"] = [modal_damping(mode.zeta, modal_inertia(v, mode.omega_n), mode.omega_n)
+               for v in ci["k"]]
+    return AxisModel(values, ci, info), cov
+
+
+def _split(static, static_cov, torsion, torsion_cov, bending, bending_cov):
+    """k_t, k_b by eq. (12) with intervals; inputs (k, beta, b, beta_t, b_t, beta_b, b_b)."""
+    x = np.array([static["k"], static["beta"], static["b"], torsion["beta"], torsion["b"],
+                  bending["beta"], bending["b"]])
+    cov = np.zeros((7, 7))
+    order = [3, 1, 2]
+    cov[:3, :3] = static_cov[np.ix_(order, order)]
+    cov[3:5, 3:5] = torsion_cov[1:, 1:]
+    cov[5:, 5:] = bending_cov[1:, 1:]
+
+    def split(v):
+        s = decompose_stiffness(*v)
+        return np.array([s.k_t, s.k_b])
+
+    values, out_cov = propagate(split, x, cov, 1e-7 * np.maximum(np.abs(x), 1e-3))
+    ci = {n: interval(values[i], out_cov[i, i]) for i, n in enumerate(("k_t", "k_b"))}
+    return AxisModel({"k_t": float(values[0]), "k_b": float(values[1])}, ci)
+
+
+def _modal(modes, decay):
+    out = {}
+    for label in ("torsion", "bending"):
+        mode = modes.first(label)
+        pole = match_pole(list(decay.poles), mode.omega_n) if decay else None
+        out[label] = {"f_hz": mode.f_hz, "omega_n": mode.omega_n, "zeta": mode.zeta,
+                      "omega_n_decay": pole.omega_n if pole else None,
+                      "zeta_decay": pole.zeta if pole else None}
+    out["n_samples_decay"] = decay.n_samples if decay else 0
+    return out
+
+
+def identify_component(name, readings, modes, q0):
+    """ComponentIdentification from the readings of a campaign (by test name) and the modes."""
+    static, static_cov = static_model(readings["static"], q0)
+    models = {}
+    for label in ("torsion", "bending"):
+        models[label] = _mode_model(readings[label], readings["static"], modes.first(label))
+    split = _split(static.values, static_cov, models["torsion"][0].values, models["torsion"][1],
+                   models["bending"][0].values, models["bending"][1])
+    sweep, others = [], {}
+    for test, r in readings.items():
+        if getattr(r, "kind", None) == "sweep":
+            values, _, ci, info = _harmonic_axis(r)
+            sweep.append(AxisModel({"f_hz": float(r.frequency_hz), **values}, ci, info))
+        elif getattr(r, "kind", None) == "harmonic" and test not in models:
+            values, _, ci, info = _harmonic_axis(r)
+            others[test] = AxisModel({"f_hz": float(r.frequency_hz), **values}, ci, info)
+    return ComponentIdentification(name, static, models["torsion"][0], models["bending"][0],
+                                   split, tuple(sweep), _modal(modes, readings.get("decay")),
+                                   others)
