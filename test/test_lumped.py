@@ -1,0 +1,123 @@
+"""Lumped stiffness variants of the touring motorcycle (Passigato et al. 2023, Sect. 4.1, 5.1-5.2).
+
+The identified parameters used here come straight from the clamped finite-element models (static
+response, mode-shape axes, eq. 10 with the modal frequency), an independent path from the
+time-domain bench, so these tests pin the vehicle side alone.
+"""
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from motoflex_ros.config import config_path
+from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.identify.axis import axis_stiffness
+from motoflex_ros.structures.components import load_component
+from motoflex_ros.vehicle import lumped
+from motoflex_ros.vehicle.linearize import linearize
+from motoflex_ros.vehicle.model import load_vehicle
+
+SPEEDS = np.array([40.0, 120.0, 210.0]) / 3.6
+
+
+@pytest.fixture(scope="module")
+def vehicle():
+    return load_vehicle(config_path("vehicles", "touring"))
+
+
+@pytest.fixture(scope="module")
+def components():
+    out = {}
+    for name in lumped.COMPONENTS:
+        comp = load_component(name)
+        out[name] = (lumped.site_of(comp), comp.clamped_reduced())
+    return out
+
+
+def fe_identification(reduced):
+    """l, beta, k, J, c as the bench would identify them, computed on the FE model directly."""
+    static = reduced.static_lateral(100.0)
+    result = {"static": {"l": static.axis.l, "beta": static.axis.beta, "k": static.k},
+              "k_t": static.k, "k_b": static.k}
+    y_static = static.end_motion[1]
+    for label in ("torsion", "bending"):
+        axis = reduced.mode_axis(label)
+        omega = 2 * np.pi * reduced.frequency(label)
+        k = axis_stiffness(static.force, y_static, axis.b)   # eq. (8) with this test's arm
+        J = k / omega**2                                     # eq. (10)
+        result[label] = {"l": axis.l, "beta": axis.beta, "k": k, "J": J,
+                         "c": 2 * 0.01 * J * omega}          # eq. (11), zeta = 1 %
+    return result
+
+
+@pytest.fixture(scope="module")
+def identified(components):
+    return {name: fe_identification(red) for name, (_, red) in components.items()}
+
+
+def variant_model(vehicle, components, identified, variant, names, scale=1.0):
+    joints = {}
+    for name in names:
+        site, reduced = components[name]
+        sota = None
+        if variant == "state_of_the_art":
+            steer = next(j for j in vehicle.joints if j.name == "steer")
+            point, axis = lumped.state_of_the_art_axis(name, site, steer.axis)
+            sota = (point, axis, lumped.state_of_the_art_stiffness(reduced, axis))
+        found = lumped.flex_joints(variant, name, identified, site, sota)
+        joints[name] = tuple(replace(j, k=j.k * scale) for j in found)
+    return lumped.lumped_vehicle(vehicle, variant, joints)
+
+
+@pytest.mark.parametrize("variant", lumped.VARIANTS)
+def test_totals_equal_rigid_roundtrip(vehicle, components, identified, variant):
+    """Total mass, centre of mass and inertia tensor stay those of the rigid motorcycle."""
+    model = variant_model(vehicle, components, identified, variant, lumped.COMPONENTS)
+    m0, c0, i0 = lumped.mass_properties(vehicle)
+    m1, c1, i1 = lumped.mass_properties(model)
+    assert abs(m1 - m0) <= 1e-9 * m0
+    assert np.max(np.abs(c1 - c0)) <= 1e-9 * np.max(np.abs(c0))
+    assert np.max(np.abs(i1 - i0)) <= 1e-9 * np.max(np.abs(i0))
+    expected_joints = {"rigid": 0, "decomposed": 6}.get(variant, 3)
+    assert len(model.joints) - len(vehicle.joints) == expected_joints
+
+
+def test_site_of_every_component_meets_the_vehicle(vehicle, components):
+    for name, (site, _) in components.items():
+        lumped.check_site(vehicle, name, site)
+
+
+def test_misplaced_component_is_refused(vehicle, components):
+    site, _ = components["front_assembly"]
+    moved = replace(site, origin=site.origin + np.array([0.002, 0.0, 0.0]))
+    with pytest.raises(ModelError, match="front_assembly.*2.0 mm from the front wheel centre"):
+        lumped.check_site(vehicle, "front_assembly", moved)
+
+
+def test_unknown_variant_and_missing_field_are_named(vehicle, components, identified):
+    site, _ = components["frame"]
+    with pytest.raises(ConfigError, match="'variant'.*not one of"):
+        lumped.flex_joints("stiff", "frame", identified, site)
+    partial = {"frame": {"static": {"l": 0.3, "beta": 2.0}}}
+    with pytest.raises(ConfigError, match="'frame.static.k': missing"):
+        lumped.flex_joints("static", "frame", partial, site)
+
+
+def test_stiff_lumped_joints_converge_to_rigid_limit(vehicle, components, identified):
+    """Scaling every lumped stiffness up makes the eigenvalues converge to the rigid ones."""
+    rigid = linearize(vehicle)
+    reference = [rigid.eigenvalues(v) for v in SPEEDS]
+    errors = []
+    for scale in (1e2, 1e4):
+        model = variant_model(vehicle, components, identified, "static", lumped.COMPONENTS,
+                              scale)
+        lin = linearize(model)
+        err = 0.0
+        for v, ref in zip(SPEEDS, reference):
+            values = lin.eigenvalues(v)
+            # each rigid eigenvalue against the nearest one of the stiff model (the stiff model
+            # has extra, fast hinge modes: -1/gamma on massless bodies, sqrt(k/J) otherwise)
+            nearest = np.min(np.abs(values[None, :] - ref[:, None]), axis=1)
+            err = max(err, np.max(nearest / np.maximum(np.abs(ref), 1.0)))
+        errors.append(err)
+    assert errors[1] < errors[0] / 10 and errors[1] < 1e-3
