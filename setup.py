@@ -62,6 +62,10 @@ setup(
             "sim_clock = motoflex_ros.nodes.sim_clock:main",
             "recorder = motoflex_ros.nodes.recorder:main",
             "bag_replay = motoflex_ros.nodes.bag_replay:main",
+            "load_actuator = motoflex_ros.nodes.load_actuator:main",
+            "component_simulator = motoflex_ros.nodes.component_simulator:main",
+            "displacement_sensor = motoflex_ros.nodes.displacement_sensor:main",
+            "identification = motoflex_ros.nodes.identification:main",
         ],
     },
 )

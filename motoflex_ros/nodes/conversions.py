@@ -2,13 +2,20 @@
 
 Times: integer nanoseconds of simulated time <-> builtin_interfaces/Time.
 """
+import json
 import struct
 
+import numpy as np
 from builtin_interfaces.msg import Time
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+from geometry_msgs.msg import Pose, PoseArray, PoseStamped, WrenchStamped
 from rclpy.serialization import deserialize_message
 from rosgraph_msgs.msg import Clock
+from std_msgs.msg import String
 
-__all__ = ["time_msg", "time_ns", "clock_msg", "seconds_to_ns", "clock_ns_from_cdr"]
+__all__ = ["time_msg", "time_ns", "clock_msg", "seconds_to_ns", "clock_ns_from_cdr",
+           "wrench_msg", "phase_msg", "sample_from_phase", "points_msg", "points_from_msg",
+           "pose_msg", "identification_statuses", "results_from_statuses"]
 
 NS_PER_S = 1_000_000_000
 
@@ -40,3 +47,115 @@ def clock_ns_from_cdr(data):
         sec, nanosec = struct.unpack_from("<iI", data, 4)
         return sec * NS_PER_S + nanosec
     return time_ns(deserialize_message(data, Clock).clock)
+
+
+# --- bench: loads, phases, markers, poses -------------------------------------------------
+
+def wrench_msg(ns, frame_id, force_y):
+    """geometry_msgs/WrenchStamped: lateral force F_y [N] at the loaded end."""
+    msg = WrenchStamped()
+    msg.header.stamp = time_msg(ns)
+    msg.header.frame_id = frame_id
+    msg.wrench.force.y = float(force_y)
+    return msg
+
+
+def phase_msg(sample=None, end_ns=None):
+    """std_msgs/String (JSON) with a load sample's labels (``LoadSample.to_dict``: exact
+    floats), or, with ``end_ns``, the end of a component's campaign.
+    """
+    data = {"end_ns": int(end_ns)} if sample is None else sample.to_dict()
+    return String(data=json.dumps(data))
+
+
+def sample_from_phase(msg, force_y):
+    """(LoadSample, None) from a phase message and the F_y [N] of its load; (None, end_ns) for
+    the end marker.
+    """
+    from motoflex_ros.bench.actuator import LoadSample
+    data = json.loads(msg.data)
+    if "end_ns" in data:
+        return None, data["end_ns"]
+    data["force"] = float(force_y)
+    return LoadSample.from_dict(data), None
+
+
+def points_msg(ns, frame_id, points):
+    """geometry_msgs/PoseArray of points (n, 3) [m] (identity orientations)."""
+    msg = PoseArray()
+    msg.header.stamp = time_msg(ns)
+    msg.header.frame_id = frame_id
+    for x, y, z in np.asarray(points, float).reshape(-1, 3):
+        pose = Pose()
+        pose.position.x, pose.position.y, pose.position.z = float(x), float(y), float(z)
+        pose.orientation.w = 1.0
+        msg.poses.append(pose)
+    return msg
+
+
+def points_from_msg(msg):
+    """(n, 3) array [m] of the positions in a PoseArray."""
+    return np.array([(p.position.x, p.position.y, p.position.z) for p in msg.poses],
+                    float).reshape(-1, 3)
+
+
+def pose_msg(ns, frame_id, position, rotation):
+    """geometry_msgs/PoseStamped of a position [m] and rotation matrix."""
+    from scipy.spatial.transform import Rotation
+    msg = PoseStamped()
+    msg.header.stamp = time_msg(ns)
+    msg.header.frame_id = frame_id
+    msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = map(float, position)
+    x, y, z, w = Rotation.from_matrix(rotation).as_quat()
+    msg.pose.orientation.x, msg.pose.orientation.y = float(x), float(y)
+    msg.pose.orientation.z, msg.pose.orientation.w = float(z), float(w)
+    return msg
+
+
+# --- identification results ---------------------------------------------------------------
+
+def _key_values(values):
+    out = []
+    for key, value in values.items():
+        if isinstance(value, dict):
+            out += [KeyValue(key=f"{key}.{k}", value=kv.value)
+                    for kv in _key_values(value) for k in [kv.key]]
+        else:
+            out.append(KeyValue(key=str(key), value=repr(_plain(value))))
+    return out
+
+
+def _plain(value):
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [_plain(v) for v in value]
+    return value
+
+
+def identification_statuses(component, result_dict):
+    """diagnostic_msgs/DiagnosticStatus list, one per test/model of a component's result dict
+    (``ComponentIdentification.to_dict``): name '<component>/<test>', values as KeyValue with
+    dotted keys and ``repr`` values (exact floats).
+    """
+    statuses, top = [], {}
+    for test, values in result_dict.items():
+        if isinstance(values, dict) and test != "ci":
+            statuses.append(_status(f"{component}/{test}", values))
+        elif isinstance(values, list):
+            statuses += [_status(f"{component}/{test}_{i:02d}", v) for i, v in enumerate(values)]
+        else:
+            top[test] = values
+    statuses.insert(0, _status(f"{component}/split", top))
+    return statuses
+
+
+def _status(name, values):
+    return DiagnosticStatus(level=DiagnosticStatus.OK, name=name, message="identified",
+                            hardware_id="motoflex_ros", values=_key_values(values))
+
+
+def results_from_statuses(statuses):
+    """{status name: {dotted key: value}} back from DiagnosticStatus messages."""
+    import ast
+    return {s.name: {kv.key: ast.literal_eval(kv.value) for kv in s.values} for s in statuses}

@@ -1,7 +1,8 @@
 """Lock-step pacing: a source publishes simulated time only as far as its consumers allow.
 
 Consumers acknowledge on /rig/ack (diagnostic_msgs/KeyValue: key = node name, value = simulated
-time [ns] they have fully handled) after each burst of messages. A pacing source
+time [ns] they have fully handled, optionally followed by words for the source) after each
+burst of messages. A pacing source
 (:mod:`.sim_clock`, :mod:`.bag_replay`) lets simulated time run at most ``window_ns`` ahead of
 the slowest acknowledgement. With reliable keep-all QoS nothing is dropped, the queues stay
 bounded, and since every node handles its inputs in order the results do not depend on how fast
@@ -55,7 +56,7 @@ class AckGate:
 
     def _on_ack(self, msg):
         if msg.key in self.acked:
-            value = int(msg.value)
+            value = int(msg.value.split()[0])
             if value > self.acked[msg.key]:
                 self.acked[msg.key] = value
                 self._progress = time.monotonic()

@@ -14,6 +14,7 @@
   :meth:`RigNode.close` runs), a parameter error prints one line and exits with 2.
 """
 import importlib
+import os
 import signal
 import sys
 
@@ -172,6 +173,16 @@ class FastSpinner:
             count += 1
 
 
+def _profiler():
+    """A running cProfile.Profile if MOTOFLEX_PROFILE names a directory (development aid)."""
+    if not os.environ.get("MOTOFLEX_PROFILE"):
+        return None
+    import cProfile
+    profile = cProfile.Profile()
+    profile.enable()
+    return profile
+
+
 def run_node(node_class, args=None):
     """Run ``node_class`` until it finishes or gets SIGINT/SIGTERM; returns the exit code."""
     stop = []
@@ -185,6 +196,7 @@ def run_node(node_class, args=None):
         rclpy.try_shutdown()
         return 2
     spinner = FastSpinner(node)
+    profile = _profiler()
     try:
         while not stop and not node.finished:
             node.step(spinner)
@@ -192,6 +204,9 @@ def run_node(node_class, args=None):
         node.get_logger().error(str(exc))
         node.exit_code = 2
     finally:
+        if profile is not None:
+            profile.disable()
+            profile.dump_stats(f"{os.environ['MOTOFLEX_PROFILE']}/{node.get_name()}.prof")
         node.close(stop[0] if stop else "finished")
         node.destroy_node()
         rclpy.try_shutdown()

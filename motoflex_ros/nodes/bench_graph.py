@@ -1,0 +1,71 @@
+"""What the bench nodes share: parameters, topic names, the campaign setups, the sample join.
+
+Every bench node handles the components listed in ``components`` (one campaign after the
+other, in that order). Per component the topics are ``/bench/<component>/{load, phase,
+markers/true, markers/measured, pose}``. Each sample travels as one message per topic, so the
+k-th message on each topic of a component belongs to the same sample: :class:`SampleJoin` pairs
+them by arrival count (the DDS order of one topic is kept; the order across topics is not).
+The phase message ends a component's campaign with an end marker.
+"""
+from collections import deque
+
+from motoflex_ros.nodes.params import Param
+
+__all__ = ["BENCH_PARAMS", "topic", "frame_id", "campaign_setups", "SampleJoin"]
+
+COMPONENTS = ("frame", "front_assembly", "swingarm")
+
+BENCH_PARAMS = (
+    Param("components", COMPONENTS, description="components, in campaign order"),
+    Param("protocol", "", description="protocol name or file ('': each component's own)"),
+    Param("noise", -1.0, -1.0, 1.0, description="sensor noise std [m] (-1: the protocol's)"),
+    Param("seed", 0, 0, 2**31 - 1, description="seed of the sensor noise"),
+)
+
+
+def topic(component, leaf):
+    """/bench/<component>/<leaf>."""
+    return f"/bench/{component}/{leaf}"
+
+
+def frame_id(component):
+    """Frame of a component's bench data: its clamp (REP-103 axes)."""
+    return f"{component}_clamp"
+
+
+def campaign_setups(params):
+    """{component: CampaignSetup} from the bench parameters (the same call as offline)."""
+    from motoflex_ros.bench.campaign import setup_campaign
+    noise = None if params["noise"] < 0 else params["noise"]
+    protocol = params["protocol"] or None
+    return {name: setup_campaign(name, protocol, noise) for name in params["components"]}
+
+
+class SampleJoin:
+    """Pairs the k-th messages of several topics of one component.
+
+    ``push(topic, msg)`` queues a message; whenever the head of the ``primary`` queue and the
+    messages it needs (``needs(head)`` -> topics) are all there, ``handler(head, {topic: msg})``
+    is called, in order.
+    """
+
+    def __init__(self, primary, topics, handler, needs=None):
+        self.primary = primary
+        self.queues = {t: deque() for t in (primary, *topics)}
+        self.handler = handler
+        self.needs = needs or (lambda head: topics)
+
+    def push(self, name, msg):
+        """Queue ``msg`` of topic ``name`` and handle every complete sample."""
+        self.queues[name].append(msg)
+        primary = self.queues[self.primary]
+        while primary:
+            needed = self.needs(primary[0])
+            if not all(self.queues[t] for t in needed):
+                return
+            head = primary.popleft()
+            self.handler(head, {t: self.queues[t].popleft() for t in needed})
+
+    def callback(self, name):
+        """Subscription callback that pushes to ``name``."""
+        return lambda msg: self.push(name, msg)

@@ -1,0 +1,65 @@
+"""component_simulator: the clamped reduced component under the commanded load.
+
+For each sample (phase + load of /bench/<c>/), steps the core's ComponentSimulator and
+publishes the true marker positions on /bench/<c>/markers/true (geometry_msgs/PoseArray,
+clamp frame), stamped with the load's time.
+"""
+import sys
+
+import numpy as np
+from geometry_msgs.msg import PoseArray, WrenchStamped
+from std_msgs.msg import String
+
+from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
+from motoflex_ros.nodes.bench_graph import topic as bench_topic
+from motoflex_ros.nodes.conversions import points_msg, sample_from_phase, time_ns
+from motoflex_ros.nodes.runtime import RigNode, run_node
+
+__all__ = ["ComponentSimulatorNode", "main"]
+
+
+class ComponentSimulatorNode(RigNode):
+    """Load in, true markers out."""
+
+    NAME = "component_simulator"
+    PARAMS = BENCH_PARAMS
+
+    def __init__(self):
+        from motoflex_ros.bench.response import ComponentSimulator
+        super().__init__()
+        self.setups = campaign_setups(self.params)
+        self.sims = {c: ComponentSimulator(s.reduced) for c, s in self.setups.items()}
+        self.pubs = {}
+        for c in self.setups:
+            self.pubs[c] = self.advertise(PoseArray, bench_topic(c, "markers/true"))
+            join = SampleJoin("phase", ("load",), self._handler(c),
+                              needs=lambda head: () if "end_ns" in head.data else ("load",))
+            self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"))
+            self.subscribe(WrenchStamped, bench_topic(c, "load"), join.callback("load"))
+
+    def _handler(self, component):
+        from motoflex_ros.bench.sensor import marker_positions, rotation_from_vector
+        setup = self.setups[component]
+        q0 = np.asarray(setup.reduced.q0, float)
+        offsets = np.asarray(setup.protocol.sensor.markers, float)
+
+        def handle(phase, inputs):
+            if "load" not in inputs:
+                return
+            load = inputs["load"]
+            sample, _ = sample_from_phase(phase, load.wrench.force.y)
+            motion = self.sims[component].step(sample)
+            markers = marker_positions(q0 + motion[:3], rotation_from_vector(motion[3:]), q0,
+                                       offsets)
+            self.pubs[component].publish(points_msg(time_ns(load.header.stamp),
+                                                    frame_id(component), markers))
+        return handle
+
+
+def main(args=None):
+    """Console script ``component_simulator``."""
+    return run_node(ComponentSimulatorNode, args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

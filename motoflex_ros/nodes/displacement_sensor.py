@@ -1,0 +1,82 @@
+"""displacement_sensor: the marker sensor (noise, resolution, latency) of the bench.
+
+For each sample (phase + true markers of /bench/<c>/) it recovers the loaded end's true pose
+from the true markers (the core's rigid fit), lets the core's MarkerSensor capture it and
+publishes what the sensor delivers at that sample: all delivered marker sets in one
+/bench/<c>/markers/measured (geometry_msgs/PoseArray, possibly empty while the latency runs)
+and, per delivered measurement, the fitted pose on /bench/<c>/pose (PoseStamped). At the end
+marker it flushes the sensor.
+"""
+import sys
+
+import numpy as np
+from geometry_msgs.msg import PoseArray, PoseStamped
+from std_msgs.msg import String
+
+from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
+from motoflex_ros.nodes.bench_graph import topic as bench_topic
+from motoflex_ros.nodes.conversions import (
+    points_from_msg,
+    points_msg,
+    pose_msg,
+    sample_from_phase,
+    time_ns,
+)
+from motoflex_ros.nodes.runtime import RigNode, run_node
+
+__all__ = ["DisplacementSensorNode", "main"]
+
+
+class DisplacementSensorNode(RigNode):
+    """True markers in, measured markers and pose out."""
+
+    NAME = "displacement_sensor"
+    PARAMS = BENCH_PARAMS
+
+    def __init__(self):
+        from motoflex_ros.bench.sensor import MarkerSensor
+        super().__init__()
+        self.setups = campaign_setups(self.params)
+        seed = self.params["seed"]
+        self.sensors = {c: MarkerSensor(s.protocol.sensor, s.reduced.q0, seed)
+                        for c, s in self.setups.items()}
+        self.measured_pubs, self.pose_pubs, self.offsets = {}, {}, {}
+        for c in self.setups:
+            self.measured_pubs[c] = self.advertise(PoseArray, bench_topic(c, "markers/measured"))
+            self.pose_pubs[c] = self.advertise(PoseStamped, bench_topic(c, "pose"))
+            join = SampleJoin("phase", ("true",), self._handler(c),
+                              needs=lambda head: () if "end_ns" in head.data else ("true",))
+            self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"))
+            self.subscribe(PoseArray, bench_topic(c, "markers/true"), join.callback("true"))
+
+    def _handler(self, component):
+        from motoflex_ros.bench.sensor import fit_pose
+        sensor = self.sensors[component]
+        q0 = np.asarray(self.setups[component].reduced.q0, float)
+        frame = frame_id(component)
+
+        def handle(phase, inputs):
+            if "true" not in inputs:
+                _, ns = sample_from_phase(phase, 0.0)
+                delivered = sensor.flush()
+            else:
+                sample, _ = sample_from_phase(phase, 0.0)
+                ns = time_ns(inputs["true"].header.stamp)
+                position, rotation = fit_pose(points_from_msg(inputs["true"]), sensor.reference,
+                                              q0)
+                delivered = sensor.capture(sample.index, sample.t, position, rotation)
+            markers = [m.markers for m in delivered]
+            self.measured_pubs[component].publish(
+                points_msg(ns, frame, np.concatenate(markers) if markers else np.zeros((0, 3))))
+            for m in delivered:
+                self.pose_pubs[component].publish(pose_msg(ns, frame, m.position, m.rotation))
+        return handle
+
+
+def main(args=None):
+    """Console script ``displacement_sensor``."""
+    return run_node(DisplacementSensorNode, args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,130 @@
+"""identification: identifies each component's lumped models from loads and measured poses.
+
+Per sample it pairs the phase and load (/bench/<c>/phase, /load) with what the sensor delivered
+(/bench/<c>/markers/measured), refits the pose of each delivered marker set (core rigid fit)
+and feeds the core's streaming Identifier, then acknowledges the sample on /rig/ack (adding
+'settled <test>' when a harmonic test's mean has settled, so the actuator ends that test). At a
+component's end marker it computes l, beta, b, k, c, J, k_t, k_b (core identify_component),
+publishes them on /identification/results (diagnostic_msgs/DiagnosticArray, one status per
+test, KeyValue values) and, once every component is done, writes ``result_file`` atomically.
+"""
+import sys
+
+import numpy as np
+from diagnostic_msgs.msg import DiagnosticArray, KeyValue
+from geometry_msgs.msg import PoseArray, WrenchStamped
+from std_msgs.msg import String
+
+from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups
+from motoflex_ros.nodes.bench_graph import topic as bench_topic
+from motoflex_ros.nodes.conversions import (
+    identification_statuses,
+    points_from_msg,
+    sample_from_phase,
+    time_msg,
+    time_ns,
+)
+from motoflex_ros.nodes.params import Param
+from motoflex_ros.nodes.runtime import ACK_TOPIC, RigNode, latched_qos, run_node
+
+__all__ = ["IdentificationNode", "main", "RESULTS_TOPIC"]
+
+RESULTS_TOPIC = "/identification/results"
+
+
+class IdentificationNode(RigNode):
+    """Loads and measurements in, identified models out."""
+
+    NAME = "identification"
+    PARAMS = BENCH_PARAMS + (
+        Param("result_file", "", description="JSON file of the results ('': none)"),
+    )
+
+    def __init__(self):
+        from motoflex_ros.bench.sensor import MarkerSensor
+        from motoflex_ros.identify.identifier import Identifier
+        super().__init__()
+        self.setups = campaign_setups(self.params)
+        self.identifiers = {c: Identifier(s.reduced.q0, s.protocol.harmonic)
+                            for c, s in self.setups.items()}
+        self.fitters = {c: MarkerSensor(s.protocol.sensor, s.reduced.q0)
+                        for c, s in self.setups.items()}
+        self.count = dict.fromkeys(self.setups, 0)
+        self.results = {}
+        self.ack_pub = self.advertise(KeyValue, ACK_TOPIC)
+        self.results_pub = self.create_publisher(DiagnosticArray, RESULTS_TOPIC, latched_qos())
+        for c in self.setups:
+            join = SampleJoin("phase", ("load", "measured"), self._handler(c),
+                              needs=lambda h: ("measured",) if "end_ns" in h.data
+                              else ("load", "measured"))
+            self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"))
+            self.subscribe(WrenchStamped, bench_topic(c, "load"), join.callback("load"))
+            self.subscribe(PoseArray, bench_topic(c, "markers/measured"),
+                           join.callback("measured"))
+
+    def _handler(self, component):
+        identifier = self.identifiers[component]
+
+        def handle(phase, inputs):
+            force = inputs["load"].wrench.force.y if "load" in inputs else 0.0
+            sample, end_ns = sample_from_phase(phase, force)
+            if sample is not None:
+                identifier.add_load(sample)
+            settled = self._measurements(component, inputs["measured"])
+            if sample is None:
+                self._finish(component, end_ns)
+                self._ack(end_ns, component, "done")
+            else:
+                self._ack(time_ns(inputs["load"].header.stamp), component,
+                          " ".join(["settled", *settled]) if settled else "")
+        return handle
+
+    def _measurements(self, component, msg):
+        fitter, identifier = self.fitters[component], self.identifiers[component]
+        n = len(fitter.offsets)
+        points = points_from_msg(msg)
+        settled = []
+        for chunk in np.split(points, len(points) // n) if len(points) else []:
+            measurement = fitter.measurement(self.count[component],
+                                             time_ns(msg.header.stamp) / 1e9, chunk)
+            self.count[component] += 1
+            done = identifier.add_measurement(measurement)
+            if done:
+                settled.append(done)
+        return settled
+
+    def _ack(self, ns, component, words):
+        """/rig/ack value '<ns> <component> [settled <test>... | done]'."""
+        value = f"{ns} {component} {words}".strip()
+        self.ack_pub.publish(KeyValue(key=self.get_name(), value=value))
+
+    def _finish(self, component, end_ns):
+        from motoflex_ros.identify.results import identify_component
+        setup = self.setups[component]
+        result = identify_component(component, self.identifiers[component].readings(),
+                                    setup.modes, setup.reduced.q0)
+        self.results[component] = result
+        msg = DiagnosticArray(status=identification_statuses(component, result.to_dict()))
+        msg.header.stamp = time_msg(end_ns)
+        self.results_pub.publish(msg)
+        self.get_logger().info(f"{component}: identified, k = {result.static['k']:.6g} N m/rad")
+        if len(self.results) == len(self.setups) and self.params["result_file"]:
+            write_results(self.params["result_file"], self.results)
+
+
+def write_results(path, results):
+    """JSON file {component: ComponentIdentification.to_dict()}, written atomically."""
+    import json
+
+    from motoflex_ros.cli.output import atomic_write_text, to_jsonable
+    data = {name: r.to_dict() for name, r in results.items()}
+    atomic_write_text(path, json.dumps(to_jsonable(data), indent=1) + "\n")
+
+
+def main(args=None):
+    """Console script ``identification``."""
+    return run_node(IdentificationNode, args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

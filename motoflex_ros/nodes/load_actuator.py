@@ -1,0 +1,142 @@
+"""load_actuator: plays each component's bench protocol and paces the whole bench graph.
+
+Per sample of a component it publishes the phase (/bench/<c>/phase: the sample's test, kind,
+phase and timing as JSON) and the commanded load (/bench/<c>/load, geometry_msgs/WrenchStamped,
+F_y at the loaded end). The identification node acknowledges every sample on /rig/ack and may
+answer 'settled <test>', which ends a harmonic test before the next sample, exactly as the
+offline campaign does. Only a sample in the steady phase of a harmonic or sweep test can end
+its own test that way (the identifier's running mean only moves there; a late answer about a
+test that is over changes nothing), so after such a sample the actuator waits for its
+acknowledgement (lock-step); other samples stream ahead, at most ``window`` unacknowledged.
+The components run side by side, like three benches in one lab, each from t = 0, each with
+its own lock-step; /clock is the earliest sample time still in flight, so it never goes back.
+"""
+import sys
+import time
+from collections import deque
+
+from diagnostic_msgs.msg import KeyValue
+from geometry_msgs.msg import WrenchStamped
+from rosgraph_msgs.msg import Clock
+from std_msgs.msg import String
+
+from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, campaign_setups, frame_id, topic
+from motoflex_ros.nodes.conversions import clock_msg, phase_msg, seconds_to_ns, wrench_msg
+from motoflex_ros.nodes.pacing import ReadyWatch, StallError
+from motoflex_ros.nodes.params import Param
+from motoflex_ros.nodes.runtime import ACK_TOPIC, RigNode, run_node
+
+__all__ = ["LoadActuatorNode", "main", "may_end_test"]
+
+
+def may_end_test(sample):
+    """Can the identifier's answer to this sample end its test (steady harmonic/sweep)?"""
+    return sample.kind in ("harmonic", "sweep") and sample.phase == "steady"
+
+
+class LoadActuatorNode(RigNode):
+    """Drives the bench: per component, one sample out, one acknowledgement back."""
+
+    NAME = "load_actuator"
+    PARAMS = BENCH_PARAMS + (
+        Param("ack_from", "identification", description="node whose ack paces the run"),
+        Param("wait_for", (), description="nodes that must be ready before the first sample"),
+        Param("stall_timeout", 30.0, 0.1, 3600.0, description="max wait for an ack [s]"),
+        Param("window", 256, 1, 100_000, description="max unacknowledged samples [-]"),
+    )
+
+    def __init__(self):
+        from motoflex_ros.bench.actuator import LoadActuator
+        super().__init__()
+        p = self.params
+        self.setups = campaign_setups(p)
+        self.actuators = {c: LoadActuator(s.plan) for c, s in self.setups.items()}
+        self.clock_pub = self.advertise(Clock, "/clock")
+        self.load_pubs = {c: self.advertise(WrenchStamped, topic(c, "load")) for c in self.setups}
+        self.phase_pubs = {c: self.advertise(String, topic(c, "phase")) for c in self.setups}
+        self.ready = ReadyWatch(self, set(p["wait_for"]) | {p["ack_from"]})
+        self.subscribe(KeyValue, ACK_TOPIC, self._on_ack)
+        self.pending = {c: deque() for c in self.setups}  # ns awaiting their ack
+        self.blocked = dict.fromkeys(self.setups, False)  # waiting for a steady sample's ack
+        self.last_ns = dict.fromkeys(self.setups, -1)
+        self.done = set()
+        self.ended = set()
+        self.clock_ns = -1
+        self.started = False
+        self.progress = time.monotonic()
+
+    def _on_ack(self, msg):
+        if msg.key != self.params["ack_from"]:
+            return
+        ns, component, *words = msg.value.split()
+        pending = self.pending.get(component)
+        if not pending or int(ns) < pending[0]:
+            return
+        while pending and pending[0] <= int(ns):
+            pending.popleft()
+        if not pending:
+            self.blocked[component] = False
+        self.progress = time.monotonic()
+        if words and words[0] == "settled":
+            for test in words[1:]:
+                self.actuators[component].end_test(test)
+        elif words == ["done"]:
+            self.done.add(component)
+
+    def step(self, spinner):
+        """Wait for the graph; then send every component whose last sample was acknowledged."""
+        if not self.started:
+            spinner.spin_once(0.05)
+            self.started = self.ready.ready()
+            self.progress = time.monotonic()
+            return
+        if len(self.done) == len(self.setups):
+            self.finished = True
+            return
+        outgoing = []
+        for c in self.setups:
+            while (c not in self.done and not self.blocked[c] and c not in self.ended
+                   and len(self.pending[c]) < self.params["window"]):
+                outgoing.append(self._next(c))
+        self._advance_clock()
+        for publish in outgoing:
+            publish()
+        if spinner.spin_once(1.0) == 0 and time.monotonic() - self.progress > \
+                self.params["stall_timeout"]:
+            late = ", ".join(c for c, ns in self.pending.items() if ns)
+            raise StallError(f"no acknowledgement from '{self.params['ack_from']}' for "
+                             f"{self.params['stall_timeout']:g} s (components {late})")
+
+    def _advance_clock(self):
+        in_flight = [ns[0] for ns in self.pending.values() if ns]
+        if in_flight and min(in_flight) > self.clock_ns:
+            self.clock_ns = min(in_flight)
+            self.clock_pub.publish(clock_msg(self.clock_ns))
+
+    def _next(self, component):
+        """Take the component's next sample; returns the function that publishes it."""
+        sample = self.actuators[component].next_sample()
+        if sample is None:
+            ns = self.last_ns[component] + 1
+            self.pending[component].append(ns)
+            self.last_ns[component] = ns
+            self.ended.add(component)
+            return lambda: self.phase_pubs[component].publish(phase_msg(end_ns=ns))
+        ns = seconds_to_ns(sample.t)
+        self.pending[component].append(ns)
+        self.last_ns[component] = ns
+        self.blocked[component] = may_end_test(sample)
+
+        def publish():
+            self.phase_pubs[component].publish(phase_msg(sample))
+            self.load_pubs[component].publish(wrench_msg(ns, frame_id(component), sample.force))
+        return publish
+
+
+def main(args=None):
+    """Console script ``load_actuator``."""
+    return run_node(LoadActuatorNode, args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
