@@ -8,7 +8,9 @@ are ratios against numpy's batched eigvals measured in the same run (design.md S
 * continuation of 2 modes (weave, wobble) vs np.linalg.eigvals / np.linalg.eig on the same
   (runs, 171, 24, 24) matrices;
 * the 64-run 2-level study (matrices built on the fly, tracking, indices, ANOVA, Pearson);
-* the 729-run 3-level study; with --dask, the same on a 2-worker LocalCluster.
+* the 729-run 3-level study; with --dask, the same on a 2-worker LocalCluster;
+* the vehicle engine's rigid touring motorcycle (12 states, descriptor pencil): weave and
+  wobble by continuation against the engine's modal sweep (QZ + MAC) on the same speeds.
 
 Run: OPENBLAS_NUM_THREADS=1 python benchmarks/bench_study.py [--dask] [--full]
 """
@@ -125,12 +127,45 @@ def bench_study(vehicle, levels, scheduler=None, label="in-process"):
     return t_total
 
 
+def bench_touring(repeats):
+    from motoflex_ros.config import resolve_config
+    from motoflex_ros.vehicle.linearize import linearize
+    from motoflex_ros.vehicle.model import load_vehicle
+    from motoflex_ros.vehicle.modes import modal_sweep
+
+    lin = linearize(load_vehicle(resolve_config("vehicles", "touring")))
+    e, a = lin.pencil(SPEEDS)
+    t_sweep = best_of(repeats, lambda: modal_sweep(lin, SPEEDS))
+    t_eigvals = best_of(repeats, lambda: np.linalg.eigvals(np.linalg.solve(e, a)))
+    sweep = modal_sweep(lin, SPEEDS)
+    targets = [sweep.modes["weave"][0], sweep.modes["wobble"][0]]
+
+    def track(runs):
+        lam0, vec0 = nearest_eigenpairs(a[None, 0], targets, descriptor=e[None, 0])
+        batch = (np.broadcast_to(e, (runs,) + e.shape), np.broadcast_to(a, (runs,) + a.shape))
+        return continue_eigenpairs(batch, np.repeat(lam0, runs, 0), np.repeat(vec0, runs, 0),
+                                   speeds=SPEEDS)
+
+    t_one = best_of(repeats, lambda: track(1))
+    t_64 = best_of(1, lambda: track(64))
+    error = max(np.max(np.abs(track(1).eigenvalues[0, :, i] - sweep.modes[m])
+                       / np.abs(sweep.modes[m])) for i, m in enumerate(("weave", "wobble")))
+    print(f"touring motorcycle (rigid, n = {a.shape[-1]}), {SPEEDS.size} speeds:")
+    print(f"  eigvals of E^-1 A, batched (baseline) {t_eigvals:8.3f} s   1.00")
+    print(f"  engine modal_sweep (QZ + MAC)         {t_sweep:8.3f} s   {t_sweep / t_eigvals:.2f}")
+    print(f"  continuation, 1 run                   {t_one:8.3f} s   {t_one / t_eigvals:.2f}")
+    print(f"  continuation, 64 runs                 {t_64:8.3f} s   {t_64 / t_eigvals:.2f}"
+          f"   (per run {t_64 / 64 / t_eigvals:.2f})")
+    print(f"  continuation vs engine: max relative difference {error:.1e}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--dask", action="store_true", help="also run the 729-run study on a "
                         "2-worker LocalCluster")
     parser.add_argument("--full", action="store_true", help="also time eigvals on 729 runs")
     args = parser.parse_args()
+    bench_touring(repeats=3)
     vehicle = SyntheticVehicle()
     baseline = bench_tracking(vehicle, 64, repeats=3)
     t64 = bench_study(vehicle, levels=2)

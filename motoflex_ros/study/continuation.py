@@ -40,7 +40,7 @@ class ContinuationResult:
 
     eigenvalues: (runs, speeds, modes) complex [1/s]; eigenvectors: (runs, speeds, n, modes)
     complex unit vectors, or None if not kept; iterations: Newton steps per point (0: the
-    predictor already met the tolerance); residual: relative residual (see
+    predictor already met the tolerance); residual: componentwise backward error (see
     :func:`continue_eigenpairs`);
     step_mac: MAC between the eigenvectors of consecutive speeds (1 at the first speed);
     tol: the residual tolerance used.
@@ -55,7 +55,7 @@ class ContinuationResult:
 
     @property
     def converged(self):
-        """True where the relative residual met the tolerance."""
+        """True where the backward error met the tolerance."""
         return self.residual <= self.tol
 
 
@@ -153,16 +153,20 @@ def _apply(a, x):
 
 
 def _residual(pencil, lam, x):
-    """Residual vectors A x - lambda E x and their relative size.
+    """Residual vectors r = A x - lambda E x and their componentwise backward error.
 
-    The size is ||r|| / ((||A||_F + |lambda| ||E||_F) ||x||), with ||E||_F counted as 0 for
-    the standard problem (E = I).
+    The error is max_i |r_i| / (|A| |x| + |lambda| |E| |x|)_i (E = I for the standard
+    problem): independent of how the rows are scaled (tyre forces in N next to angles in rad).
     """
-    a, e, a_norm, e_norm = pencil
+    a, e, abs_a, abs_e = pencil
     ex = x if e is None else _apply(e, x)
     r = _apply(a, x) - lam[:, None] * ex
-    return r, ex, np.linalg.norm(r, axis=1) / ((a_norm + np.abs(lam) * e_norm)
-                                                * np.linalg.norm(x, axis=1))
+    size = np.abs(x)
+    scale = np.matmul(abs_a, size[..., None])[..., 0] + np.abs(lam)[:, None] * (
+        size if abs_e is None else np.matmul(abs_e, size[..., None])[..., 0])
+    error = np.divide(np.abs(r), scale, out=np.zeros(r.shape), where=scale > 0)
+    error[(scale == 0) & (r != 0)] = np.inf
+    return r, ex, error.max(axis=1)
 
 
 def _newton_step(pencil, lam, x, c, r, ex):
@@ -186,15 +190,12 @@ def _newton_step(pencil, lam, x, c, r, ex):
 
 
 def _subset(pencil, part):
-    a, e, a_norm, e_norm = pencil
-    return (a[part], None if e is None else e[part], a_norm[part],
-            e_norm if np.isscalar(e_norm) else e_norm[part])
+    return tuple(None if m is None else m[part] for m in pencil)
 
 
 def _correct(e, a, lam, x, c, tol, max_iter):
     """Newton iterations on the batch until each member's residual <= tol."""
-    e_norm = 0.0 if e is None else np.linalg.norm(e, axis=(1, 2))
-    pencil = (a, e, np.linalg.norm(a, axis=(1, 2)), e_norm)
+    pencil = (a, e, np.abs(a), None if e is None else np.abs(e))
     r, ex, res = _residual(pencil, lam, x)
     iters = np.zeros(lam.shape, dtype=int)
     for _ in range(max_iter):
@@ -236,8 +237,8 @@ def continue_eigenpairs(matrices, eigenvalues0, eigenvectors0, speeds=None, n_sp
     n_speeds : int, optional
         Number of speeds when ``matrices`` is callable and ``speeds`` is not given.
     tol : float
-        Relative residual tolerance ||A x - lambda E x|| / ((||A||_F + |lambda| ||E||_F) ||x||)
-        (||E||_F taken as 0 for the standard problem).
+        Tolerance on the componentwise backward error
+        max_i |A x - lambda E x|_i / (|A| |x| + |lambda| |E| |x|)_i (E = I if not given).
     max_iter : int
         Newton steps allowed per speed.
     keep_vectors : bool
