@@ -16,6 +16,7 @@ from motoflex_ros.structures.components import load_component
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
+from motoflex_ros.vehicle.variants import build_variant
 
 SPEEDS = np.array([40.0, 120.0, 210.0]) / 3.6
 
@@ -30,7 +31,7 @@ def components():
     out = {}
     for name in lumped.COMPONENTS:
         comp = load_component(name)
-        out[name] = (lumped.site_of(comp), comp.clamped_reduced())
+        out[name] = (comp, lumped.site_of(comp), comp.clamped_reduced())
     return out
 
 
@@ -52,21 +53,16 @@ def fe_identification(reduced):
 
 @pytest.fixture(scope="module")
 def identified(components):
-    return {name: fe_identification(red) for name, (_, red) in components.items()}
+    return {name: fe_identification(red) for name, (_, _, red) in components.items()}
 
 
 def variant_model(vehicle, components, identified, variant, names, scale=1.0):
-    joints = {}
-    for name in names:
-        site, reduced = components[name]
-        sota = None
-        if variant == "state_of_the_art":
-            steer = next(j for j in vehicle.joints if j.name == "steer")
-            point, axis = lumped.state_of_the_art_axis(name, site, steer.axis)
-            sota = (point, axis, lumped.state_of_the_art_stiffness(reduced, axis))
-        found = lumped.flex_joints(variant, name, identified, site, sota)
-        joints[name] = tuple(replace(j, k=j.k * scale) for j in found)
-    return lumped.lumped_vehicle(vehicle, variant, joints)
+    """The variant through the public builder; ``scale`` multiplies every static stiffness."""
+    if scale != 1.0:
+        identified = {n: {**d, "static": {**d["static"], "k": d["static"]["k"] * scale}}
+                      for n, d in identified.items()}
+    models = {name: comp for name, (comp, _, _) in components.items()}
+    return build_variant(vehicle, variant, names, identified, models)
 
 
 @pytest.mark.parametrize("variant", lumped.VARIANTS)
@@ -83,19 +79,19 @@ def test_totals_equal_rigid_roundtrip(vehicle, components, identified, variant):
 
 
 def test_site_of_every_component_meets_the_vehicle(vehicle, components):
-    for name, (site, _) in components.items():
+    for name, (_, site, _) in components.items():
         lumped.check_site(vehicle, name, site)
 
 
 def test_misplaced_component_is_refused(vehicle, components):
-    site, _ = components["front_assembly"]
+    _, site, _ = components["front_assembly"]
     moved = replace(site, origin=site.origin + np.array([0.002, 0.0, 0.0]))
     with pytest.raises(ModelError, match="front_assembly.*2.0 mm from the front wheel centre"):
         lumped.check_site(vehicle, "front_assembly", moved)
 
 
 def test_unknown_variant_and_missing_field_are_named(vehicle, components, identified):
-    site, _ = components["frame"]
+    _, site, _ = components["frame"]
     with pytest.raises(ConfigError, match="'variant'.*not one of"):
         lumped.flex_joints("stiff", "frame", identified, site)
     partial = {"frame": {"static": {"l": 0.3, "beta": 2.0}}}

@@ -44,7 +44,8 @@ from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.vehicle.model import Body, Joint
 
 __all__ = ["VARIANTS", "COMPONENTS", "GAMMA", "FlexJoint", "ComponentSite", "site_of",
-           "axis_in_vehicle", "state_of_the_art_stiffness", "flex_joints", "lumped_vehicle",
+           "axis_in_vehicle", "state_of_the_art_axis", "state_of_the_art_stiffness",
+           "check_site", "flex_joints", "lumped_vehicle",
            "mass_properties", "MOUNTS"]
 
 VARIANTS = ("rigid", "state_of_the_art", "static", "torsion", "bending", "decomposed")

@@ -1,0 +1,52 @@
+"""Build a motorcycle variant from the rigid vehicle, the components and the identification.
+
+``build_variant(vehicle, variant, names, identified, components)`` gives the VehicleModel of one
+of the paper's variants (Sect. 5.2) with the flexibility of the components ``names`` (a subset
+of frame, front_assembly, swingarm): ``rigid``, the lumped ``state_of_the_art``, ``static``,
+``torsion``, ``bending`` and ``decomposed`` models (:mod:`motoflex_ros.vehicle.lumped`).
+``components`` maps a component name to its structures Component (placement, loaded end, the
+clamped finite-element model for the state-of-the-art static moment test).
+"""
+from motoflex_ros.errors import ConfigError
+from motoflex_ros.vehicle import lumped
+
+__all__ = ["FLEX_CHOICES", "parse_components", "build_variant"]
+
+FLEX_CHOICES = lumped.VARIANTS
+
+
+def parse_components(text, source="--components"):
+    """Component names from a comma-separated list ('all' = the three motorcycle components)."""
+    if text in (None, "", "all"):
+        return list(lumped.COMPONENTS)
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    for name in names:
+        if name not in lumped.COMPONENTS:
+            raise ConfigError(source, "components", f"unknown component '{name}' (allowed: "
+                                                    f"{', '.join(lumped.COMPONENTS)}, all)")
+    return names
+
+
+def _steer_axis(vehicle):
+    role = vehicle.roles.get("steer", "steer")
+    return next(j.axis for j in vehicle.joints if j.name == role)
+
+
+def build_variant(vehicle, variant, names, identified, components):
+    """VehicleModel of ``variant`` with the lumped flexibility of the components ``names``."""
+    if variant not in FLEX_CHOICES:
+        raise ConfigError("--flex", "variant", f"'{variant}' is not one of: "
+                                               f"{', '.join(FLEX_CHOICES)}")
+    if variant == "rigid":
+        return vehicle
+    joints = {}
+    for name in names:
+        site = lumped.site_of(components[name])
+        lumped.check_site(vehicle, name, site)
+        sota = None
+        if variant == "state_of_the_art":
+            point, axis = lumped.state_of_the_art_axis(name, site, _steer_axis(vehicle))
+            reduced = components[name].clamped_reduced()
+            sota = (point, axis, lumped.state_of_the_art_stiffness(reduced, axis))
+        joints[name] = lumped.flex_joints(variant, name, identified, site, sota)
+    return lumped.lumped_vehicle(vehicle, variant, joints)
