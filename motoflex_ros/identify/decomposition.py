@@ -46,6 +46,7 @@ def decompose_stiffness(k, beta, b, beta_t, b_t, beta_b, b_b):
     -------
     StiffnessSplit
         k_t, k_b [N m/rad].
+
     """
     a = np.array([[b_b, b_t], [np.sin(beta - beta_b), -np.sin(beta_t - beta)]])
     rhs = np.array([b**2 / k, 0.0])

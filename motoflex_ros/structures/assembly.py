@@ -103,9 +103,16 @@ class Structure:
         self.parts.append((node, float(mass), np.asarray(inertia_cg, float),
                            np.asarray(cg, float)))
 
-    def add_spring(self, n1, n2, k_translation, k_rotation):
-        """Spring between two nodes, diagonal in global axes [N/m] x3 and [N m/rad] x3."""
-        self.springs.append((n1, n2, np.r_[k_translation, k_rotation].astype(float)))
+    def add_spring(self, n1, n2, k_translation, k_rotation, axes=None):
+        """Spring between two nodes: [N/m] x3 and [N m/rad] x3, diagonal in ``axes``.
+
+        ``axes`` (3x3, columns = the spring's x, y, z in global axes) defaults to global.
+        """
+        rot = np.eye(3) if axes is None else np.asarray(axes, float)
+        block = np.zeros((6, 6))
+        block[:3, :3] = rot @ np.diag(k_translation) @ rot.T
+        block[3:, 3:] = rot @ np.diag(k_rotation) @ rot.T
+        self.springs.append((n1, n2, block))
 
     def clamp(self, node):
         """Fix all six DOFs of ``node``."""
@@ -142,11 +149,11 @@ class Structure:
             m_rows.append(np.repeat(dofs, 6))
             m_cols.append(np.tile(dofs, 6))
             m_vals.append(block.ravel())
-        for n1, n2, k in self.springs:
+        for n1, n2, block in self.springs:
             for a, b, sign in ((n1, n1, 1), (n2, n2, 1), (n1, n2, -1), (n2, n1, -1)):
-                k_rows.append(6 * a + np.arange(6))
-                k_cols.append(6 * b + np.arange(6))
-                k_vals.append(sign * k)
+                k_rows.append(np.repeat(6 * a + np.arange(6), 6))
+                k_cols.append(np.tile(6 * b + np.arange(6), 6))
+                k_vals.append(sign * block.ravel())
         return [_concat(x) for x in (m_rows, m_cols, m_vals, k_rows, k_cols, k_vals)]
 
     def _link_map(self):

@@ -63,6 +63,7 @@ STRUCTURE_SCHEMA = Field("mapping", fields={
     "springs": Field("list", required=False, default=[], item=Field("mapping", fields={
         "from": Field("str"), "to": Field("str"),
         "k_translation": _NONNEG3, "k_rotation": _NONNEG3,
+        "axis_z": Field("vec3", required=False, default=None),
     })),
     "rigid_parts": Field("mapping", required=False, default={}, extra=True,
                          fields={}, item=Field("mapping", fields={
@@ -147,6 +148,19 @@ def _add_members(s, cfg, names, source):
         s.add_member(n1, n2, count, sec, mat, up=up)
 
 
+def _spring_axes(axis_z, source, key):
+    """Spring axes (columns x, y, z): z given, y = global y made orthogonal to z."""
+    z = np.asarray(axis_z, float)
+    if np.linalg.norm(z) < 1e-9:
+        raise ConfigError(source, key, "must be a non-zero direction")
+    z = z / np.linalg.norm(z)
+    y = np.array([0.0, 1.0, 0.0]) - z[1] * z
+    if np.linalg.norm(y) < 1e-6:
+        y = np.array([0.0, 0.0, 1.0]) - z[2] * z
+    y /= np.linalg.norm(y)
+    return np.column_stack([np.cross(y, z), y, z])
+
+
 def _add_joints_and_parts(s, cfg, names, source):
     for i, link in enumerate(cfg["rigid_links"]):
         key = f"rigid_links[{i}]"
@@ -158,7 +172,9 @@ def _add_joints_and_parts(s, cfg, names, source):
         key = f"springs[{i}]"
         n1 = _lookup(names, spring["from"], source, f"{key}.from", "node")
         n2 = _lookup(names, spring["to"], source, f"{key}.to", "node")
-        s.add_spring(n1, n2, spring["k_translation"], spring["k_rotation"])
+        axes = None if spring["axis_z"] is None else _spring_axes(spring["axis_z"], source,
+                                                                   f"{key}.axis_z")
+        s.add_spring(n1, n2, spring["k_translation"], spring["k_rotation"], axes)
     for part_name, part in cfg["rigid_parts"].items():
         key = f"rigid_parts.{part_name}"
         node = _lookup(names, part["node"], source, f"{key}.node", "node")

@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""Calibrate a component YAML against the paper's Table 1 and Table 2 (a design aid, not a test).
+
+Usage: python tools/calibrate_components.py COMPONENT PARAM [PARAM ...] [--weights W]
+PARAM is a dotted path into the YAML (e.g. sections.spar.outer_diameter,
+springs.0.k_rotation.2, rigid_parts.tank_left.mass), optionally with '@F' to bound its factor
+to [1/F, F]; a path ending in '*' scales every numeric
+leaf below it together (e.g. 'sections.spar.*' scales diameter and wall: a geometric scale).
+The fit minimises log-ratios of (f_torsion, f_bending, k, k_t, k_b) to the paper and penalises
+a first clamped mode that is not of the paper's type. It prints the fitted values; copying them
+into the YAML (with a comment saying what was fitted) is done by hand.
+"""
+import argparse
+import copy
+import sys
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from motoflex_ros.config import load_yaml, resolve_config, validate
+from motoflex_ros.structures.components import Component
+from motoflex_ros.structures.published import paper_table1_eigenfrequencies, paper_table2_stiffness
+from motoflex_ros.structures.schema import STRUCTURE_SCHEMA, structure_from_config
+from motoflex_ros.structures.summary import summarize
+
+FIRST_MODE = {"frame": "torsion", "front_assembly": "torsion", "swingarm": "bending"}
+
+
+def _get(data, path):
+    node = data
+    for key in path.split("."):
+        node = node[int(key)] if isinstance(node, list) else node[key]
+    return node
+
+
+def _get_parent(data, path):
+    keys = path.split(".")
+    node = data
+    for key in keys[:-1]:
+        node = node[int(key)] if isinstance(node, list) else node[key]
+    last = keys[-1]
+    return node, (int(last) if isinstance(node, list) else last)
+
+
+def _scale_all(node, factor):
+    for key in list(node.keys() if isinstance(node, dict) else range(len(node))):
+        value = node[key]
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            node[key] = value * factor
+        elif isinstance(value, (dict, list)):
+            _scale_all(value, factor)
+
+
+def apply(data, params, factors):
+    out = copy.deepcopy(data)
+    for path, factor in zip(params, factors):
+        if path.endswith(".*"):
+            _scale_all(_get(out, path[:-2]), factor)
+        else:
+            parent, key = _get_parent(out, path)
+            parent[key] = parent[key] * factor
+    return out
+
+
+def evaluate(name, data):
+    cfg = validate(data, STRUCTURE_SCHEMA, "calibration")
+    comp = structure_from_config(cfg, "calibration", Component)
+    red = comp.clamped_reduced()
+    return summarize(comp, red), red
+
+
+def residuals(name, data, weights):
+    t1, t2 = paper_table1_eigenfrequencies()[name], paper_table2_stiffness()[name]
+    s, red = evaluate(name, data)
+    values = [s.f_torsion_hz / t1["torsion"], s.f_bending_hz / t1["bending"],
+              s.k_static / t2["k"], s.k_t / t2["k_t"], s.k_b / t2["k_b"]]
+    res = [w * (np.log(v) if np.isfinite(v) and v > 0 else 5.0) for v, w in zip(values, weights)]
+    first = red.frequency(FIRST_MODE[name])
+    lowest = red.frequencies_hz[0]
+    res.append(3.0 * max(0.0, np.log(first / lowest)) if np.isfinite(first) else 5.0)
+    return np.array(res), s
+
+
+def report(name, s):
+    t1, t2 = paper_table1_eigenfrequencies()[name], paper_table2_stiffness()[name]
+    print(f"{name}: f_t {s.f_torsion_hz:.1f} ({t1['torsion']}) f_b {s.f_bending_hz:.1f} "
+          f"({t1['bending']}) k {s.k_static:.3g} ({t2['k']:.3g}) k_t {s.k_t:.3g} "
+          f"({t2['k_t']:.3g}) k_b {s.k_b:.3g} ({t2['k_b']:.3g})")
+    for lab, ax in (("static", s.static_axis), ("torsion", s.torsion_axis),
+                    ("bending", s.bending_axis)):
+        if ax is not None:
+            print(f"  {lab:8s} l {ax.l:8.3f} beta {np.degrees(ax.beta):6.1f} deg b {ax.b:7.3f}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("component")
+    ap.add_argument("params", nargs="*")
+    ap.add_argument("--weights", default="1,1,1,0.5,0.5")
+    ap.add_argument("--max-factor", type=float, default=4.0)
+    ap.add_argument("--out", help="write the fitted configuration (no comments) to this file")
+    args = ap.parse_args()
+    weights = [float(w) for w in args.weights.split(",")]
+    data = load_yaml(resolve_config("components", args.component))
+    name = data["component"]
+    res0, s0 = residuals(name, data, weights)
+    report(name, s0)
+    if not args.params:
+        return 0
+    limits = [np.log(float(p.split("@")[1]) if "@" in p else args.max_factor)
+              for p in args.params]
+    args.params = [p.split("@")[0] for p in args.params]
+    lim = np.array(limits)
+    fit = least_squares(lambda x: residuals(name, apply(data, args.params, np.exp(x)),
+                                            weights)[0],
+                        np.zeros(len(args.params)), bounds=(-lim, lim), diff_step=1e-3)
+    factors = np.exp(fit.x)
+    fitted = apply(data, args.params, factors)
+    for path, f in zip(args.params, factors):
+        if path.endswith(".*"):
+            print(f"{path}: x{f:.4f} -> {_get(fitted, path[:-2])}")
+        else:
+            parent, key = _get_parent(fitted, path)
+            print(f"{path}: x{f:.4f} -> {parent[key]:.6g}")
+    report(name, residuals(name, fitted, weights)[1])
+    if args.out:
+        import yaml
+        with open(args.out, "w", encoding="utf-8") as stream:
+            yaml.safe_dump(_plain(fitted), stream, sort_keys=False)
+    return 0
+
+
+def _plain(obj):
+    """Numpy scalars -> Python floats (rounded to 4 significant digits) for YAML output."""
+    if isinstance(obj, dict):
+        return {k: _plain(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, (float, np.floating)):
+        return float(f"{float(obj):.4g}")
+    return obj
+
+
+if __name__ == "__main__":
+    sys.exit(main())
