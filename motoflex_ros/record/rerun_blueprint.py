@@ -12,8 +12,10 @@ __all__ = ["default_blueprint"]
 
 
 def _bench_tab(components):
-    series = [rrb.TimeSeriesView(origin=f"/bench/{c}/load", name=f"{c}: load and end "
-                                 "displacement") for c in components]
+    series = [rrb.TimeSeriesView(origin=f"/bench/{c}/load/{what}", name=f"{c}: {label}")
+              for c in components
+              for what, label in (("force", "load [N]"),
+                                  ("end_displacement", "loaded-end displacement [m]"))]
     return rrb.Horizontal(
         rrb.Spatial3DView(origin="/bench", name="Bench (3D)"),
         rrb.Vertical(*series) if series else rrb.TimeSeriesView(origin="/bench", name="Bench"),
@@ -38,6 +40,8 @@ def _vehicle_tab():
 def default_blueprint(components=()):
     """Blueprint with Bench, Identification and Vehicle tabs; the bench tab is active.
 
+    The blueprint and selection side panels start collapsed to leave the views the room.
+
     ``components`` names the bench components (one load/displacement plot each). The time
     panel opens on ``sim_time``; eigenvalue plots use ``speed_kmh`` and the modes
     ``mode_frame`` (pick them in the time panel).
@@ -45,4 +49,6 @@ def default_blueprint(components=()):
     tabs = rrb.Tabs(_bench_tab(tuple(components)),
                     rrb.TimeSeriesView(origin="/identification", name="Identification"),
                     _vehicle_tab(), active_tab=0)
-    return rrb.Blueprint(tabs, rrb.TimePanel(timeline=TIMELINE), collapse_panels=False)
+    return rrb.Blueprint(tabs, rrb.BlueprintPanel(state="collapsed"),
+                         rrb.SelectionPanel(state="collapsed"),
+                         rrb.TimePanel(timeline=TIMELINE, state="expanded"))

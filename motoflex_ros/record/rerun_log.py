@@ -236,7 +236,7 @@ def log_axis(rec, component, test, l, beta, q0, half_length=None):
     rec.log(path, rr.LineStrips3D([_axis_strip(axis, q0, half)], colors=color, radii=0.004,
                                   labels=[test]), static=True)
     rec.log(f"{path}/joint", rr.Points3D([[axis.x_j, 0.0, axis.z_j]], colors=color,
-                                         radii=0.02, labels=[f"{test} joint"]), static=True)
+                                         radii=0.02), static=True)
 
 
 def log_sweep_axes(rec, component, frequencies_hz, ls, betas, q0, half_length=None):

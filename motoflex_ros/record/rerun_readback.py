@@ -5,7 +5,6 @@ Used by tests and by ``motoflex rerun`` to check what it wrote. rerun-sdk 0.41 h
 """
 import shutil
 import subprocess
-import sys
 from collections import Counter
 from pathlib import Path
 
@@ -41,9 +40,17 @@ def scalar_values(rrd_path, entity_path):
 
 
 def rerun_executable():
-    """Path of the ``rerun`` CLI of this environment (next to the interpreter, else PATH)."""
-    local = Path(sys.executable).with_name("rerun")
-    return str(local) if local.exists() else shutil.which("rerun")
+    """Path of the rerun CLI binary shipped in rerun-sdk (else ``rerun`` on PATH).
+
+    The binary itself, not the ``bin/rerun`` Python wrapper: the wrapper runs the binary as a
+    child and does not pass SIGTERM on, so stopping the wrapper would orphan the viewer.
+    """
+    try:
+        import rerun_cli
+    except ImportError:
+        return shutil.which("rerun")
+    binary = Path(rerun_cli.__file__).with_name("rerun")
+    return str(binary) if binary.exists() else shutil.which("rerun")
 
 
 def verify_text(rrd_path):

@@ -1,0 +1,132 @@
+"""``motoflex view bags/<run> [--web]``: open a run's rerun recording in the viewer.
+
+Native: spawns the rerun viewer on bags/<run>/<run>.rrd (converting the bag first if the .rrd
+does not exist yet). ``--web``: serves the web viewer on 127.0.0.1 only, prints the address and
+serves until Ctrl-C. The viewer's usage analytics are switched off first unless ``--telemetry``.
+"""
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from motoflex_ros.errors import MotoflexError
+
+__all__ = ["register", "run", "web_address", "free_port", "disable_analytics"]
+
+READY_TIMEOUT_S = 60.0
+
+
+def register(subparsers):
+    parser = subparsers.add_parser(
+        "view", help="open a run's rerun recording (native viewer, or --web)",
+        description="Open bags/<run>/<run>.rrd in the rerun viewer (converted from the bag "
+                    "first if needed). --web serves the web viewer on 127.0.0.1 only.")
+    parser.add_argument("run", type=Path, help="run folder bags/<run>")
+    parser.add_argument("--web", action="store_true", help="serve the web viewer on 127.0.0.1")
+    parser.add_argument("--web-port", type=int, default=0, help="HTTP port (default: free)")
+    parser.add_argument("--grpc-port", type=int, default=0, help="gRPC port (default: free)")
+    parser.add_argument("--telemetry", action="store_true",
+                        help="leave rerun's usage analytics as configured (default: off)")
+    parser.set_defaults(func=run)
+
+
+def free_port():
+    """A TCP port free on 127.0.0.1 now."""
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return sock.getsockname()[1]
+
+
+def web_address(web_port, grpc_port):
+    """URL of the web viewer connected to the recording's gRPC proxy (both on 127.0.0.1)."""
+    return (f"http://127.0.0.1:{web_port}/?url=rerun%2Bhttp%3A%2F%2F127.0.0.1%3A{grpc_port}"
+            "%2Fproxy")
+
+
+def disable_analytics(rerun):
+    """Switch rerun's usage analytics off (rerun's own config) if they are on."""
+    config = subprocess.run([rerun, "analytics", "config"], capture_output=True, text=True)
+    try:
+        enabled = json.loads(config.stdout).get("analytics_enabled", True)
+    except json.JSONDecodeError:
+        enabled = True
+    if enabled:
+        subprocess.run([rerun, "analytics", "disable"], capture_output=True, check=False)
+
+
+def _recording(folder):
+    from motoflex_ros.record.rerun_bag import convert_bag, rrd_path_of
+    rrd = rrd_path_of(folder)
+    if not rrd.is_file():
+        if not (folder / "metadata.yaml").is_file():
+            raise MotoflexError(f"{folder}: no {rrd.name} and no bag to make it from")
+        print(f"converting the bag into {rrd} ...", file=sys.stderr)
+        convert_bag(folder)
+    return rrd
+
+
+def _wait_listening(port, child):
+    deadline = time.monotonic() + READY_TIMEOUT_S
+    while time.monotonic() < deadline:
+        if child.poll() is not None:
+            raise MotoflexError(f"the rerun viewer exited with code {child.returncode}")
+        with socket.socket() as sock:
+            if sock.connect_ex(("127.0.0.1", port)) == 0:
+                return
+        time.sleep(0.1)
+    raise MotoflexError(f"the web viewer did not listen on 127.0.0.1:{port} within "
+                        f"{READY_TIMEOUT_S:.0f} s")
+
+
+def _stop(child):
+    """End the viewer process: SIGTERM, then SIGKILL if it is still there after 5 s."""
+    if child.poll() is None:
+        child.terminate()
+        try:
+            child.wait(timeout=5)
+        except subprocess.TimeoutExpired:
+            child.kill()
+            child.wait()
+
+
+def _start_web_viewer(command, web_port):
+    """Start the web viewer process; return it once its HTTP port accepts connections.
+
+    BROWSER=true keeps the viewer from opening a browser itself: we print the address.
+    """
+    env = dict(os.environ, BROWSER="true")
+    child = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                             env=env)
+    try:
+        _wait_listening(web_port, child)
+    except BaseException:
+        _stop(child)
+        raise
+    return child
+
+
+def run(args):
+    from motoflex_ros.record.rerun_readback import rerun_executable
+    from motoflex_ros.report.run_folder import run_folder
+    folder = run_folder(args.run)
+    rrd = _recording(folder)
+    rerun = rerun_executable()
+    if not args.telemetry:
+        disable_analytics(rerun)
+    if not args.web:
+        return subprocess.call([rerun, str(rrd)])
+    web_port = args.web_port or free_port()
+    grpc_port = args.grpc_port or free_port()
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))   # stop the child on SIGTERM too
+    child = _start_web_viewer([rerun, "--web-viewer", "--bind", "127.0.0.1", "--web-viewer-port",
+                               str(web_port), "--port", str(grpc_port), str(rrd)], web_port)
+    print(f"web viewer of {rrd.name}: {web_address(web_port, grpc_port)}", flush=True)
+    print("serving on 127.0.0.1 only; Ctrl-C to stop", file=sys.stderr, flush=True)
+    try:
+        return child.wait()
+    finally:
+        _stop(child)
