@@ -12,7 +12,7 @@ from motoflex_ros.study.factorial import FACTORS, PAPER_TABLE2_NOMINAL, full_fac
 from motoflex_ros.study.runner import design_blocks, run_study
 from motoflex_ros.study.sensitivity import analyse_sensitivity
 from motoflex_ros.study.stability_index import speed_range
-from motoflex_ros.study.tracked import NearestTargets, TrackedModeStudy
+from motoflex_ros.study.tracked import HomotopyStart, NearestTargets, TrackedModeStudy
 
 Q = (np.linalg.qr(np.random.default_rng(4).standard_normal((6, 6)))[0]
      + 0.2 * np.random.default_rng(5).standard_normal((6, 6)))
@@ -153,3 +153,33 @@ def test_too_coarse_grid_is_reported(design):
                               speeds=tuple(SPEEDS[::85]), start=start)
     with pytest.raises(ModelError, match="finer speed grid|did not converge"):
         coarse(design.values(0, 4))
+
+
+def swapping_state_matrices(values, speed):
+    """Two modes whose frequencies swap order when k_ta goes up by 30 %: -1 + (5 + 3 x) i and
+    -1.2 + 6.5 i, with x the coded k_ta at +/-30 %, fixed mode shapes."""
+    x = (values["k_ta"] / PAPER_TABLE2_NOMINAL["k_ta"] - 1.0) / 0.3
+    runs = x.size
+    d = np.zeros((runs, 6, 6))
+    for i, (sigma, w) in enumerate([(np.full(runs, -1.0), 5.0 + 3.0 * x),
+                                    (np.full(runs, -1.2), np.full(runs, 6.5)),
+                                    (np.full(runs, -4.0), np.full(runs, 30.0))]):
+        d[:, 2 * i, 2 * i] = d[:, 2 * i + 1, 2 * i + 1] = sigma
+        d[:, 2 * i, 2 * i + 1], d[:, 2 * i + 1, 2 * i] = w, -w
+    return Q @ d @ Q_INV
+
+
+def test_homotopy_start_keeps_mode_identity_analytic():
+    design = full_factorial(PAPER_TABLE2_NOMINAL, levels=2, rel_range=0.3)
+    values = design.values()
+    nominal = {name: np.array([v]) for name, v in PAPER_TABLE2_NOMINAL.items()}
+    targets = (-1.0 + 5.0j, -1.2 + 6.5j)
+    start = HomotopyStart(nominal=swapping_state_matrices(nominal, SPEEDS[0])[0],
+                          targets=targets)
+    lam, vec = start(swapping_state_matrices(values, SPEEDS[0]))
+    x = design.coded[:, design.factors.index("k_ta")]
+    np.testing.assert_allclose(lam[:, 0], -1.0 + (5.0 + 3.0 * x) * 1j, atol=1e-10)
+    np.testing.assert_allclose(lam[:, 1], -1.2 + 6.5j, atol=1e-10)
+    # picking the nearest eigenvalue confuses the two modes where k_ta is high
+    with pytest.raises(ModelError, match="same eigenvalue"):
+        NearestTargets(targets=targets)(swapping_state_matrices(values, SPEEDS[0]))

@@ -4,8 +4,10 @@ import pytest
 import scipy.linalg
 
 from motoflex_ros.errors import ModelError
+from motoflex_ros.study.continuation import mac
 from motoflex_ros.study.factorial import FACTORS, PAPER_TABLE2_NOMINAL, full_factorial
 from motoflex_ros.study.tracked import (
+    HomotopyStart,
     LinearStiffnessPencil,
     NearestTargets,
     TrackedModeStudy,
@@ -122,3 +124,16 @@ def test_local_process_cluster_single_thread_blas_and_identical_results():
     assert list(env.values()) == ["1"]
     for name, values in here.outputs.items():
         np.testing.assert_array_equal(there.outputs[name], values)
+
+
+def test_homotopy_start_on_pencils_equals_nearest_pick():
+    pencil = pencil_of_vehicle()
+    design = full_factorial(PAPER_TABLE2_NOMINAL, levels=2)
+    nominal = {name: np.array([v]) for name, v in PAPER_TABLE2_NOMINAL.items()}
+    e_nom, a_nom = pencil(nominal, 5.0)
+    targets = nominal_targets(5.0)
+    runs = pencil(design.values(), 5.0)
+    homotopy = HomotopyStart(nominal=(e_nom[0], a_nom[0]), targets=targets)(runs)
+    nearest = NearestTargets(targets=targets)(runs)
+    np.testing.assert_allclose(homotopy[0], nearest[0], atol=1e-10)
+    np.testing.assert_allclose(mac(homotopy[1], nearest[1]), 1.0, atol=1e-10)

@@ -24,6 +24,7 @@ the grid). A real eigenvalue that meets another one and turns complex (or a comp
 meets on the real axis) is a defective point that cannot be continued through: it shows as a
 residual above the tolerance or a low step MAC.
 """
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -138,7 +139,7 @@ def _extrapolate(history, speed):
     lam = np.zeros_like(history[-1][1])
     vec = np.zeros_like(history[-1][2])
     for i, (v_i, lam_i, x_i) in enumerate(history):
-        weight = np.prod([(speed - v_m) / (v_i - v_m) for m, v_m in enumerate(speeds) if m != i])
+        weight = math.prod((speed - v_m) / (v_i - v_m) for m, v_m in enumerate(speeds) if m != i)
         lam = lam + weight * lam_i
         vec = vec + weight * x_i
     return lam, vec

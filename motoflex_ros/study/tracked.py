@@ -23,7 +23,7 @@ import numpy as np
 from motoflex_ros.errors import ModelError
 from motoflex_ros.study.continuation import continue_eigenpairs, nearest_eigenpairs
 
-__all__ = ["NearestTargets", "TrackedModeStudy", "LinearStiffnessPencil",
+__all__ = ["NearestTargets", "HomotopyStart", "TrackedModeStudy", "LinearStiffnessPencil",
            "stiffness_directions"]
 
 
@@ -38,6 +38,49 @@ class NearestTargets:
         if isinstance(matrices, tuple):
             return nearest_eigenpairs(matrices[1], targets, descriptor=matrices[0])
         return nearest_eigenpairs(matrices, targets)
+
+
+@dataclass(frozen=True, eq=False)
+class HomotopyStart:
+    """Start eigenpairs continued from the nominal vehicle to each run's stiffnesses.
+
+    nominal: the nominal A or pencil (E, A) at the first speed, each (n, n) (1 run); targets:
+    approximate nominal eigenvalues, one per mode [1/s] (e.g. weave and wobble as the vehicle
+    engine names them by mode shape); steps: continuation steps in t from the nominal (t = 0)
+    to each run (t = 1), along A(t) = A_nom + t (A_run - A_nom). Unlike picking the nearest
+    eigenvalue at each run, this keeps mode identity when a large variation moves two modes
+    past each other.
+    """
+
+    nominal: object
+    targets: tuple
+    steps: int = 8
+
+    def _nominal_pairs(self):
+        if isinstance(self.nominal, tuple):
+            e, a = (np.asarray(m)[None] for m in self.nominal)
+            return nearest_eigenpairs(a, np.asarray(self.targets, complex), descriptor=e)
+        return nearest_eigenpairs(np.asarray(self.nominal)[None],
+                                  np.asarray(self.targets, complex))
+
+    def __call__(self, matrices):
+        lam, vec = self._nominal_pairs()
+        pencil = isinstance(matrices, tuple)
+        runs_ = [np.asarray(m) for m in (matrices if pencil else (matrices,))]
+        nominal = [np.asarray(m) for m in (self.nominal if pencil else (self.nominal,))]
+        runs = runs_[-1].shape[0]
+        t = np.linspace(0.0, 1.0, self.steps + 1)
+
+        def path(j):
+            mats = tuple(m_nom + t[j] * (m_run - m_nom) for m_nom, m_run in zip(nominal, runs_))
+            return mats if pencil else mats[0]
+
+        result = continue_eigenpairs(path, np.repeat(lam, runs, 0), np.repeat(vec, runs, 0),
+                                     speeds=t, keep_vectors=True)
+        if not np.all(result.converged):
+            raise ModelError("could not continue the modes from the nominal vehicle to a run; "
+                             "use more homotopy steps")
+        return result.eigenvalues[:, -1], result.eigenvectors[:, -1]
 
 
 @dataclass(frozen=True)
