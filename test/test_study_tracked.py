@@ -137,3 +137,37 @@ def test_homotopy_start_on_pencils_equals_nearest_pick():
     nearest = NearestTargets(targets=targets)(runs)
     np.testing.assert_allclose(homotopy[0], nearest[0], atol=1e-10)
     np.testing.assert_allclose(mac(homotopy[1], nearest[1]), 1.0, atol=1e-10)
+
+
+def test_sensitivity_end_to_end_equals_full_eig_tracking():
+    import json
+
+    from motoflex_ros.study.sensitivity import run_sensitivity, stability_indices
+    from motoflex_ros.study.tracked import pencil_study
+
+    nominal = dict(PAPER_TABLE2_NOMINAL)
+    speeds = np.linspace(40.0, 210.0, 35) / 3.6
+    a_coeffs = np.stack([state_coefficient(nominal, p) for p in range(3)])
+    e_coeffs = np.stack([E0, 0 * E0, 0 * E0])
+    study = pencil_study(e_coeffs, a_coeffs, lambda k: state_coefficient(k, 0), nominal,
+                         speeds, nominal_targets(speeds[0]))
+    result, run = run_sensitivity(study, nominal, speeds, progress=False)
+    design = run.design
+    # reference: generalized eig (QZ) at every speed, nearest-eigenvalue following
+    reference = {"weave": [], "wobble": []}
+    for r in range(len(design)):
+        k = {name: design.physical[r, i] for i, name in enumerate(design.factors)}
+        current = np.array([run.outputs["weave"][r, 0], run.outputs["wobble"][r, 0]])
+        curve = []
+        for v in speeds:
+            values = finite_eigenvalues(sum(v**p * state_coefficient(k, p) for p in range(3)),
+                                        E0)
+            current = values[np.argmin(np.abs(values[:, None] - current), axis=0)]
+            curve.append(current)
+        reference["weave"].append(np.array(curve)[:, 0])
+        reference["wobble"].append(np.array(curve)[:, 1])
+    expected = stability_indices(speeds, {m: np.array(c) for m, c in reference.items()})
+    for name, index in expected.items():
+        np.testing.assert_allclose(result.indices[name].s, index.s, rtol=1e-9, atol=1e-12)
+    text = json.dumps(result.to_dict(), allow_nan=False)
+    assert json.loads(text)["nominal"]["k_ba"] == 1.71e5

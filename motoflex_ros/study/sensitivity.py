@@ -10,9 +10,12 @@ import numpy as np
 
 from motoflex_ros.study.anova import anova
 from motoflex_ros.study.correlation import pearson_table
+from motoflex_ros.study.factorial import full_factorial
+from motoflex_ros.study.runner import run_study
 from motoflex_ros.study.stability_index import stability_index
 
-__all__ = ["MODES", "RANGES", "SensitivityResult", "stability_indices", "analyse_sensitivity"]
+__all__ = ["MODES", "RANGES", "SensitivityResult", "stability_indices", "analyse_sensitivity",
+           "run_sensitivity"]
 
 MODES = ("weave", "wobble")
 RANGES = ("low", "high")
@@ -44,11 +47,18 @@ class SensitivityResult:
         return {name: result.main_share for name, result in self.anova.items()}
 
     def to_dict(self):
-        """The JSON shape of ``motoflex study sensitivity --json`` (issue 7)."""
+        """The JSON shape of ``motoflex study sensitivity --json`` (issue 7); NaN (an index
+        that does not vary) becomes None."""
         return {"nominal": dict(self.nominal),
                 "indices": {name: index.s.tolist() for name, index in self.indices.items()},
-                "anova_main_share": self.anova_main_share,
-                "pearson": self.pearson}
+                "anova_main_share": {k: _finite_or_none(v)
+                                     for k, v in self.anova_main_share.items()},
+                "pearson": {index: {f: _finite_or_none(rho) for f, rho in row.items()}
+                            for index, row in self.pearson.items()}}
+
+
+def _finite_or_none(value):
+    return float(value) if np.isfinite(value) else None
 
 
 def analyse_sensitivity(design, speeds, curves):
@@ -63,3 +73,17 @@ def analyse_sensitivity(design, speeds, curves):
         nominal=design.nominal_values(), indices=indices,
         anova={name: anova(design.coded, s, design.factors) for name, s in responses.items()},
         pearson=pearson_table(design, responses))
+
+
+def run_sensitivity(study_function, nominal, speeds, levels=2, rel_range=0.10, scheduler=None,
+                    progress=True):
+    """The whole sensitivity study: full factorial, study runs, indices, ANOVA, Pearson.
+
+    ``study_function`` maps {factor: array (runs,)} [N m/rad] to {"weave": ..., "wobble": ...}
+    eigenvalues (runs, speeds) on ``speeds`` [m/s] (e.g. from
+    :func:`motoflex_ros.study.tracked.pencil_study`); ``scheduler`` as in
+    :func:`motoflex_ros.study.runner.run_study`. Returns (SensitivityResult, StudyRun).
+    """
+    design = full_factorial(nominal, levels=levels, rel_range=rel_range)
+    run = run_study(study_function, design, scheduler=scheduler, progress=progress)
+    return analyse_sensitivity(design, speeds, run.outputs), run

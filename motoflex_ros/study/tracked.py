@@ -24,7 +24,7 @@ from motoflex_ros.errors import ModelError
 from motoflex_ros.study.continuation import continue_eigenpairs, nearest_eigenpairs
 
 __all__ = ["NearestTargets", "HomotopyStart", "TrackedModeStudy", "LinearStiffnessPencil",
-           "stiffness_directions"]
+           "stiffness_directions", "pencil_study"]
 
 
 @dataclass(frozen=True)
@@ -180,3 +180,35 @@ def stiffness_directions(matrix_of, nominal, rel_step=0.1, tol=1e-8):
             raise ModelError(f"the matrix is not linear in stiffness {name} (relative "
                              f"mismatch {mismatch:.1e}); a linear stiffness pencil needs it")
     return directions
+
+
+def pencil_study(e_coeffs, a_coeffs, matrix_of, nominal, speeds, targets,
+                 modes=("weave", "wobble")):
+    """The study function of a linearized vehicle whose joint stiffnesses are the factors.
+
+    Parameters
+    ----------
+    e_coeffs, a_coeffs : array (degree + 1, n, n)
+        Speed-polynomial coefficients of E(v), A(v) at the nominal stiffness (e.g. the vehicle
+        engine's LinearVehicle.E_coeffs, A_coeffs).
+    matrix_of : callable
+        ``matrix_of({factor: k}) -> A_0`` (n, n), the speed-independent coefficient with those
+        stiffnesses [N m/rad] (one linearization per call; 13 calls for six factors).
+    nominal : mapping
+        Nominal stiffnesses [N m/rad].
+    speeds : array
+        Speed grid [m/s].
+    targets : sequence of complex
+        Nominal eigenvalues of the modes at ``speeds[0]`` [1/s], e.g. weave and wobble as the
+        engine's modal sweep names them.
+    modes : tuple of str
+        Output names, in the order of ``targets``.
+
+    """
+    directions = stiffness_directions(matrix_of, dict(nominal))
+    pencil = LinearStiffnessPencil(np.asarray(e_coeffs), np.asarray(a_coeffs), directions,
+                                   dict(nominal))
+    e0, a0 = pencil({f: np.array([float(k)]) for f, k in nominal.items()}, speeds[0])
+    start = HomotopyStart(nominal=(e0[0], a0[0]), targets=tuple(targets))
+    return TrackedModeStudy(state_matrices=pencil, speeds=tuple(np.asarray(speeds, float)),
+                            start=start, modes=tuple(modes))
