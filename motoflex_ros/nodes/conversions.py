@@ -3,6 +3,7 @@
 Times: integer nanoseconds of simulated time <-> builtin_interfaces/Time.
 """
 import json
+import math
 import struct
 
 import numpy as np
@@ -101,15 +102,32 @@ def points_from_msg(msg):
 
 def pose_msg(ns, frame_id, position, rotation):
     """geometry_msgs/PoseStamped of a position [m] and rotation matrix."""
-    from scipy.spatial.transform import Rotation
     msg = PoseStamped()
     msg.header.stamp = time_msg(ns)
     msg.header.frame_id = frame_id
     msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = map(float, position)
-    x, y, z, w = Rotation.from_matrix(rotation).as_quat()
+    x, y, z, w = quaternion_xyzw(rotation)
     msg.pose.orientation.x, msg.pose.orientation.y = float(x), float(y)
     msg.pose.orientation.z, msg.pose.orientation.w = float(z), float(w)
     return msg
+
+
+def quaternion_xyzw(rotation):
+    """Unit quaternion (x, y, z, w) of a rotation matrix (Shepperd's method, w >= 0 branch
+    first; exact for the small rotations of the bench).
+    """
+    r = np.asarray(rotation, float)
+    trace = r[0, 0] + r[1, 1] + r[2, 2]
+    if trace > 0.0:
+        s = 2.0 * math.sqrt(1.0 + trace)
+        return ((r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s,
+                0.25 * s)
+    i = int(np.argmax(np.diag(r)))
+    j, k = (i + 1) % 3, (i + 2) % 3
+    s = 2.0 * math.sqrt(1.0 + r[i, i] - r[j, j] - r[k, k])
+    q = [0.0, 0.0, 0.0, (r[k, j] - r[j, k]) / s]
+    q[i], q[j], q[k] = 0.25 * s, (r[j, i] + r[i, j]) / s, (r[k, i] + r[i, k]) / s
+    return tuple(q)
 
 
 # --- identification results ---------------------------------------------------------------

@@ -24,6 +24,7 @@ from motoflex_ros.nodes.conversions import (
     time_msg,
     time_ns,
 )
+from motoflex_ros.nodes.load_actuator import may_end_test
 from motoflex_ros.nodes.params import Param
 from motoflex_ros.nodes.runtime import ACK_TOPIC, RigNode, latched_qos, run_node
 
@@ -51,6 +52,7 @@ class IdentificationNode(RigNode):
                         for c, s in self.setups.items()}
         self.count = dict.fromkeys(self.setups, 0)
         self.results = {}
+        self.unacked = {}
         self.ack_pub = self.advertise(KeyValue, ACK_TOPIC)
         self.results_pub = self.create_publisher(DiagnosticArray, RESULTS_TOPIC, latched_qos())
         for c in self.setups:
@@ -74,9 +76,12 @@ class IdentificationNode(RigNode):
             if sample is None:
                 self._finish(component, end_ns)
                 self._ack(end_ns, component, "done")
+                return
+            ns = time_ns(inputs["load"].header.stamp)
+            if settled or may_end_test(sample):  # the actuator waits for this one
+                self._ack(ns, component, " ".join(["settled", *settled]) if settled else "")
             else:
-                self._ack(time_ns(inputs["load"].header.stamp), component,
-                          " ".join(["settled", *settled]) if settled else "")
+                self.unacked[component] = ns
         return handle
 
     def _measurements(self, component, msg):
@@ -97,6 +102,12 @@ class IdentificationNode(RigNode):
         """/rig/ack value '<ns> <component> [settled <test>... | done]'."""
         value = f"{ns} {component} {words}".strip()
         self.ack_pub.publish(KeyValue(key=self.get_name(), value=value))
+        self.unacked.pop(component, None)
+
+    def acknowledge(self):
+        """After a burst: acknowledge the samples nobody waits for, one ack per component."""
+        for component, ns in list(self.unacked.items()):
+            self._ack(ns, component, "")
 
     def _finish(self, component, end_ns):
         from motoflex_ros.identify.results import identify_component
@@ -109,16 +120,15 @@ class IdentificationNode(RigNode):
         self.results_pub.publish(msg)
         self.get_logger().info(f"{component}: identified, k = {result.static['k']:.6g} N m/rad")
         if len(self.results) == len(self.setups) and self.params["result_file"]:
-            write_results(self.params["result_file"], self.results)
+            write_results(self.params["result_file"], {c: self.results[c] for c in self.setups})
 
 
 def write_results(path, results):
-    """JSON file {component: ComponentIdentification.to_dict()}, written atomically."""
-    import json
-
-    from motoflex_ros.cli.output import atomic_write_text, to_jsonable
-    data = {name: r.to_dict() for name, r in results.items()}
-    atomic_write_text(path, json.dumps(to_jsonable(data), indent=1) + "\n")
+    """{component: ComponentIdentification.to_dict()} written exactly as ``motoflex identify
+    --out`` writes it (JSON, or YAML for .yaml/.yml), atomically.
+    """
+    from motoflex_ros.cli.identify import _write  # the offline command's own writer
+    _write(path, {name: r.to_dict() for name, r in results.items()})
 
 
 def main(args=None):

@@ -9,7 +9,8 @@ its own test that way (the identifier's running mean only moves there; a late an
 test that is over changes nothing), so after such a sample the actuator waits for its
 acknowledgement (lock-step); other samples stream ahead, at most ``window`` unacknowledged.
 The components run side by side, like three benches in one lab, each from t = 0, each with
-its own lock-step; /clock is the earliest sample time still in flight, so it never goes back.
+its own lock-step; /clock (every ``clock_period`` of simulated time, as a bag player does) is
+the earliest sample time still in flight, so it never goes back.
 """
 import sys
 import time
@@ -43,6 +44,7 @@ class LoadActuatorNode(RigNode):
         Param("wait_for", (), description="nodes that must be ready before the first sample"),
         Param("stall_timeout", 30.0, 0.1, 3600.0, description="max wait for an ack [s]"),
         Param("window", 256, 1, 100_000, description="max unacknowledged samples [-]"),
+        Param("clock_period", 0.01, 0.0, 1.0, description="/clock every so much sim time [s]"),
     )
 
     def __init__(self):
@@ -109,7 +111,8 @@ class LoadActuatorNode(RigNode):
 
     def _advance_clock(self):
         in_flight = [ns[0] for ns in self.pending.values() if ns]
-        if in_flight and min(in_flight) > self.clock_ns:
+        period = seconds_to_ns(self.params["clock_period"])
+        if in_flight and min(in_flight) >= self.clock_ns + max(period, 1):
             self.clock_ns = min(in_flight)
             self.clock_pub.publish(clock_msg(self.clock_ns))
 
