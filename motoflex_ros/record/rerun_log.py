@@ -33,11 +33,11 @@ from pathlib import Path
 import numpy as np
 import rerun as rr
 
-from motoflex_ros.identify.axis import DeformationAxis, axis_in_plane
+from motoflex_ros.report.geometry import axis_from_l_beta, axis_segment
 
 __all__ = ["TIMELINE", "RunRecording", "log_component_frame",
            "log_structure", "log_structure_model", "log_load", "log_axis", "log_sweep_axes",
-           "log_identification", "exaggeration_factor", "axis_from_l_beta",
+           "log_identification", "exaggeration_factor",
            "subsample_indices", "MAX_SHAPE_FRAMES"]
 
 TIMELINE = "sim_time"
@@ -206,44 +206,24 @@ def log_load(rec, component, times, forces, load_xyz, end_displacements,
     return len(times)
 
 
-def axis_from_l_beta(l, beta, q0):
-    """A :class:`DeformationAxis` from the identified l [m] and beta [rad] (eqs. 5-7).
-
-    The joint lies on the line O-q0 at the signed distance l (eq. 5); b follows from eq. (7).
-    """
-    q0 = np.asarray(q0, float)
-    length = np.hypot(q0[0], q0[2])
-    return DeformationAxis(l=float(l), beta=float(beta), b=float((length - l) * np.sin(beta)),
-                           x_j=float(l * q0[0] / length), z_j=float(l * q0[2] / length))
-
-
-def _axis_strip(axis, q0, half_length):
-    point, direction = axis_in_plane(axis, q0)
-    return np.array([point - half_length * direction, point + half_length * direction])
-
-
 def log_axis(rec, component, test, l, beta, q0, half_length=None):
     """Deformation axis of one test (static, torsion, bending) and its joint, as Figs. 5-7.
 
     l [m], beta [rad] as identified (eqs. 5-6); q0 [m] the unloaded loaded end. The strip is
     drawn ``half_length`` [m] (default: |q0|) either side of the joint in the x-z plane.
     """
-    q0 = np.asarray(q0, float)
     axis = axis_from_l_beta(l, beta, q0)
-    half = half_length or float(np.hypot(q0[0], q0[2]))
     color = AXIS_COLORS.get(test, (200, 200, 200))
     path = f"/bench/{component}/axes/{test}"
-    rec.log(path, rr.LineStrips3D([_axis_strip(axis, q0, half)], colors=color, radii=0.004,
-                                  labels=[test]), static=True)
+    rec.log(path, rr.LineStrips3D([axis_segment(l, beta, q0, half_length)], colors=color,
+                                  radii=0.004, labels=[test]), static=True)
     rec.log(f"{path}/joint", rr.Points3D([[axis.x_j, 0.0, axis.z_j]], colors=color,
                                          radii=0.02), static=True)
 
 
 def log_sweep_axes(rec, component, frequencies_hz, ls, betas, q0, half_length=None):
     """Axes of the harmonic sweep (Figs. 5-7, thin black lines): one strip per frequency."""
-    q0 = np.asarray(q0, float)
-    half = half_length or float(np.hypot(q0[0], q0[2]))
-    strips = [_axis_strip(axis_from_l_beta(l, b, q0), q0, half) for l, b in zip(ls, betas)]
+    strips = [axis_segment(l, b, q0, half_length) for l, b in zip(ls, betas)]
     labels = [f"{f:g} Hz" for f in frequencies_hz]
     rec.log(f"/bench/{component}/axes/sweep",
             rr.LineStrips3D(strips, colors=(20, 20, 20), radii=0.0015, labels=labels),

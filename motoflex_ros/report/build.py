@@ -1,0 +1,124 @@
+"""Build bags/<run>/report.html from the run's JSON sources (see :mod:`.sources`).
+
+Sections whose data does not exist are listed as "not available" with the reason; no number
+is ever made up. Progress bars (tqdm, stderr) run over the data sources and the sections.
+"""
+import sys
+import time
+
+from tqdm import tqdm
+
+from motoflex_ros.cli.output import atomic_write_text
+from motoflex_ros.report import tables
+from motoflex_ros.report.html import Figure, Missing, Section, render
+from motoflex_ros.report.sources import FIG9_VARIANTS, load_run_data
+from motoflex_ros.structures.published import COMPONENTS
+
+__all__ = ["build_report", "SECTIONS", "REPORT_FILE"]
+
+REPORT_FILE = "report.html"
+PAPER = "Passigato et al. 2023"
+
+
+def _figures():
+    from motoflex_ros.report import figures
+    return figures
+
+
+def _components(data):
+    components = data["components"]
+    parts = [tables.components_table(components), tables.table1(components)]
+    for name in COMPONENTS:
+        parts.append(Figure(f"modes_{name}", f"{name}: first torsion and bending modes of the "
+                            "clamped reduced model", _figures().component_modes_figure(name)))
+    return parts
+
+
+def _identification(data):
+    identify = data["identify"]
+    return [tables.identification_table(identify), tables.table2(identify)]
+
+
+def _axes(data):
+    identify = data["identify"]
+    numbers = {"frame": 5, "front_assembly": 6, "swingarm": 7}
+    return [Figure(f"fig{numbers[c]}_{c}", f"Fig. {numbers[c]} ({PAPER}): deformation axes of "
+                   f"the {c.replace('_', ' ')}", _figures().axes_figure(c, identify[c]))
+            for c in COMPONENTS]
+
+
+def _accuracy(data):
+    accuracy = data["accuracy"]
+    return [tables.accuracy_table(accuracy),
+            Figure("fig8", f"Fig. 8 ({PAPER}): e_RMS of the lumped models against the flexible "
+                   "ones", _figures().fig8_figure(accuracy))]
+
+
+def _fig9(data):
+    variants = {v: data[f"fig9_{v}"] for v in FIG9_VARIANTS if f"fig9_{v}" in data}
+    if "flexible" not in variants or len(variants) < 2:
+        raise KeyError("fig9_flexible and at least one lumped variant")
+    return [Figure("fig9", f"Fig. 9 ({PAPER}): front assembly flexible only; weave and wobble "
+                   "against speed", _figures().fig9_figure(variants))]
+
+
+def _sensitivity(data):
+    sensitivity = data["sensitivity"]
+    return [tables.anova_table(sensitivity), tables.pearson_table(sensitivity),
+            Figure("fig10", f"Fig. 10 ({PAPER}): Pearson coefficients of weave and wobble "
+                   "indices per stiffness", _figures().fig10_figure(sensitivity))]
+
+
+def _vehicle(data):
+    return [Figure("eig_touring", "Touring motorcycle (rigid): weave and wobble against speed",
+                   _figures().fig9_figure({"rigid": data["eig"]}))]
+
+
+def _whipple(data):
+    return [tables.whipple_table(data["whipple"])]
+
+
+# (id, title, needed sources, builder)
+SECTIONS = (
+    ("components", "Components and their modes (Table 1)", ("components",), _components),
+    ("identification", "Identification (Table 2)", ("identify",), _identification),
+    ("axes", "Deformation axes (Figs. 5-7)", ("identify",), _axes),
+    ("accuracy", "Accuracy of the lumped models (Fig. 8)", ("accuracy",), _accuracy),
+    ("fig9", "Front assembly: weave and wobble over speed (Fig. 9)", (), _fig9),
+    ("sensitivity", "Sensitivity (Fig. 10)", ("sensitivity",), _sensitivity),
+    ("vehicle", "Vehicle stability", ("eig",), _vehicle),
+    ("whipple", "Whipple benchmark check", ("whipple",), _whipple),
+)
+
+
+def _section(run_data, spec):
+    section_id, title, needs, builder = spec
+    absent = [n for n in needs if n not in run_data.data]
+    if absent:
+        reasons = "; ".join(f"{n}: {run_data.missing.get(n, 'missing')}" for n in absent)
+        return Section(section_id, title, (Missing(title, reasons),))
+    try:
+        return Section(section_id, title, tuple(builder(run_data.data)))
+    except (KeyError, IndexError, TypeError, ValueError) as exc:
+        missing = "; ".join(f"{k}: {v}" for k, v in run_data.missing.items()
+                            if k.startswith(section_id))
+        return Section(section_id, title, (Missing(title, missing or f"incomplete data ({exc})"),))
+
+
+def build_report(folder, compute=True, progress=True):
+    """Write ``folder``/report.html; returns (path, sections)."""
+    run_data = load_run_data(folder, compute=compute, progress=progress)
+    sections = []
+    bar = tqdm(SECTIONS, desc="report sections", unit="section", disable=not progress,
+               file=sys.stderr)
+    for spec in bar:
+        bar.set_postfix_str(spec[0])
+        start = time.perf_counter()
+        sections.append(_section(run_data, spec))
+        run_data.timings.append((f"section: {spec[0]}", time.perf_counter() - start))
+    sections.append(Section("timings", "Timings", (tables.timings_table(run_data),)))
+    sources = sorted(run_data.origins.items())
+    html = render(f"motoflex_ros run report: {folder.name}", sections, sources)
+    path = folder / REPORT_FILE
+    atomic_write_text(path, html)
+    return path, sections

@@ -1,0 +1,94 @@
+"""Self-contained HTML of a report: inline CSS, figures as base64 PNG, number cells traceable.
+
+Every number cell carries ``data-kind`` (json, paper, diff, absdiff), ``data-value`` (the full
+float) and, for JSON values, ``data-json`` (file) and ``data-path`` (keys joined by '/').
+"""
+import base64
+import html
+from dataclasses import dataclass
+
+__all__ = ["Figure", "Missing", "Section", "render"]
+
+CSS = """
+body { font-family: sans-serif; max-width: 1100px; margin: 2em auto; color: #222; }
+table { border-collapse: collapse; margin: 0.5em 0 1.5em; font-size: 0.9em; }
+th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
+th:first-child, td:first-child { text-align: left; }
+td[data-kind=paper] { color: #555; } td[data-kind=diff] { font-style: italic; }
+.na { color: #a33; } figure { margin: 1em 0; } img { max-width: 100%; }
+.sources { font-size: 0.85em; color: #555; }
+"""
+
+
+@dataclass(frozen=True)
+class Figure:
+    """A figure: id (fig5_frame, ...), caption and PNG bytes."""
+
+    id: str
+    caption: str
+    png: bytes
+
+
+@dataclass(frozen=True)
+class Missing:
+    """A part whose data does not exist (yet): what, and why."""
+
+    what: str
+    reason: str
+
+
+@dataclass(frozen=True)
+class Section:
+    """A report section: id, title and parts (Table, Figure, Missing)."""
+
+    id: str
+    title: str
+    parts: tuple
+
+
+def _cell(cell, tag="td"):
+    attrs = ""
+    if cell.value is not None:
+        attrs += f' data-value="{cell.value!r}"'
+    if cell.kind:
+        attrs += f' data-kind="{cell.kind}"'
+    if cell.file:
+        attrs += f' data-json="{html.escape(cell.file)}"'
+    if cell.path:
+        attrs += f' data-path="{html.escape(cell.path)}"'
+    return f"<{tag}{attrs}>{html.escape(cell.text)}</{tag}>"
+
+
+def _table(table):
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in table.header)
+    body = "".join("<tr>" + "".join(_cell(c) for c in row) + "</tr>" for row in table.rows)
+    note = f"<p>{html.escape(table.note)}</p>" if table.note else ""
+    return (f'<h3>{html.escape(table.title)}</h3><table id="{table.id}"><thead><tr>{head}'
+            f"</tr></thead><tbody>{body}</tbody></table>{note}")
+
+
+def _figure(figure):
+    data = base64.b64encode(figure.png).decode("ascii")
+    return (f'<figure id="{figure.id}"><img alt="{html.escape(figure.caption)}" '
+            f'src="data:image/png;base64,{data}"><figcaption>{html.escape(figure.caption)}'
+            "</figcaption></figure>")
+
+
+def _part(part):
+    if isinstance(part, Figure):
+        return _figure(part)
+    if isinstance(part, Missing):
+        return (f'<p class="na" data-missing="{html.escape(part.what)}">{html.escape(part.what)}'
+                f": not available ({html.escape(part.reason)})</p>")
+    return _table(part)
+
+
+def render(title, sections, sources):
+    """The whole HTML document; ``sources`` lists where each JSON came from."""
+    items = "".join(f"<li>{html.escape(name)}: {html.escape(origin)}</li>"
+                    for name, origin in sources)
+    body = "".join(f'<section id="{s.id}"><h2>{html.escape(s.title)}</h2>'
+                   + "".join(_part(p) for p in s.parts) + "</section>" for s in sections)
+    return (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>'
+            f"{html.escape(title)}</title><style>{CSS}</style></head><body><h1>"
+            f'{html.escape(title)}</h1><ul class="sources">{items}</ul>{body}</body></html>\n')

@@ -1,0 +1,120 @@
+"""The data a report is made from: the JSON outputs of the motoflex verbs, per run folder.
+
+Each source is one verb's ``--json`` output saved in the run folder under a fixed file name
+(``motoflex campaign`` writes them; ``motoflex report`` computes the missing ones on demand by
+running the verb and saves what it got, so the report can always be traced to its JSON).
+A source that is neither saved nor computable is "not available" with the reason.
+"""
+import json
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+
+from tqdm import tqdm
+
+from motoflex_ros.cli.output import atomic_write_text, emit_json
+
+__all__ = ["Source", "SOURCES", "RunData", "load_run_data", "FIG9_VARIANTS"]
+
+SWEEP = ["--range-kmh", "40", "210", "--step", "10"]
+FIG9_VARIANTS = ("flexible", "state_of_the_art", "static", "torsion", "bending")
+
+
+@dataclass(frozen=True)
+class Source:
+    """One verb output: name, file in the run folder, verb arguments (without --json)."""
+
+    name: str
+    file: str
+    args: tuple
+
+
+SOURCES = (
+    Source("components", "components.json", ("components",)),
+    Source("identify", "identify.json", ("identify",)),
+    Source("eig", "eig.json", ("eig", "--vehicle", "touring", *SWEEP)),
+    Source("accuracy", "accuracy.json", ("study", "accuracy")),
+    Source("sensitivity", "sensitivity.json", ("study", "sensitivity")),
+    Source("whipple", "whipple.json", ("eig", "--vehicle", "whipple_benchmark", "--speeds", "5",
+                                       "10")),
+    *(Source(f"fig9_{v}", f"eig_front_assembly_{v}.json",
+             ("eig", "--vehicle", "touring", "--flex", v, "--components", "front_assembly",
+              *SWEEP)) for v in FIG9_VARIANTS),
+)
+
+
+@dataclass
+class RunData:
+    """Loaded sources: ``data`` {name: JSON}, ``missing`` {name: reason}, ``timings``
+    [(step, seconds)] of this report's own steps, ``campaign_timings`` from timings.json."""
+
+    data: dict = field(default_factory=dict)
+    missing: dict = field(default_factory=dict)
+    timings: list = field(default_factory=list)
+    campaign_timings: dict = field(default_factory=dict)
+    origins: dict = field(default_factory=dict)
+
+
+def _read(path):
+    try:
+        return json.loads(path.read_text(encoding="utf-8")), None
+    except (OSError, json.JSONDecodeError) as exc:
+        return None, f"{path.name} unreadable ({exc})"
+
+
+def _compute(source):
+    """Run ``motoflex ARGS --json``; (data, None) or (None, reason)."""
+    cmd = [sys.executable, "-m", "motoflex_ros.cli.main", *source.args, "--json"]
+    result = subprocess.run(cmd, capture_output=True, text=True)
+    if result.returncode != 0:
+        lines = (result.stderr or result.stdout).strip().splitlines()
+        return None, (lines[-1] if lines else f"exit code {result.returncode}")
+    try:
+        return json.loads(result.stdout), None
+    except json.JSONDecodeError as exc:
+        return None, f"'motoflex {' '.join(source.args)} --json' printed no JSON ({exc})"
+
+
+def _save(folder, source, data):
+    import io
+    buffer = io.StringIO()
+    emit_json(data, buffer)
+    atomic_write_text(folder / source.file, buffer.getvalue())
+
+
+def _load_one(folder, source, compute, run):
+    path = folder / source.file
+    if path.is_file():
+        data, reason = _read(path)
+        origin = f"{source.file} (saved)"
+    elif compute:
+        data, reason = _compute(source)
+        origin = f"motoflex {' '.join(source.args)} --json (computed now, saved as {source.file})"
+        if data is not None:
+            _save(folder, source, data)
+    else:
+        data, reason = None, f"{source.file} not in the run folder (not computed: --no-compute)"
+        origin = None
+    if data is None:
+        run.missing[source.name] = reason
+    else:
+        run.data[source.name] = data
+        run.origins[source.name] = origin
+
+
+def load_run_data(folder, compute=True, progress=True):
+    """Load (or compute and save) every source of the report for the run folder ``folder``."""
+    run = RunData()
+    timings_path = folder / "timings.json"
+    if timings_path.is_file():
+        run.campaign_timings, _ = _read(timings_path)
+        run.campaign_timings = run.campaign_timings or {}
+    bar = tqdm(SOURCES, desc="report data", unit="source", disable=not progress,
+               file=sys.stderr)
+    for source in bar:
+        bar.set_postfix_str(source.name)
+        start = time.perf_counter()
+        _load_one(folder, source, compute, run)
+        run.timings.append((f"data: {source.name}", time.perf_counter() - start))
+    return run

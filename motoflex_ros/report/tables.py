@@ -1,0 +1,190 @@
+"""Tables of the report, built from the verbs' JSON: each number cell knows where it came from.
+
+A :class:`Cell` holding a number from a JSON source carries the source file and the path to the
+value inside it (``data-json`` / ``data-path`` in the HTML), so a test can check every number
+against the JSON it was made from. Paper values carry ``paper`` and differences ``diff``.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from motoflex_ros.report.published import meijaard2007_eigenvalues
+from motoflex_ros.structures.published import (
+    COMPONENTS,
+    paper_table1_eigenfrequencies,
+    paper_table2_stiffness,
+)
+
+__all__ = ["Cell", "Table", "components_table", "table1", "table2", "identification_table",
+           "whipple_table", "accuracy_table", "anova_table", "pearson_table", "timings_table",
+           "percent_difference", "VARIANTS", "QUANTITIES", "INDICES", "FACTORS"]
+
+VARIANTS = ("state_of_the_art", "static", "torsion", "bending")
+QUANTITIES = ("weave_f", "weave_re", "wobble_f", "wobble_re")
+INDICES = ("weave_low", "weave_high", "wobble_low", "wobble_high")
+FACTORS = ("k_tf", "k_bf", "k_ta", "k_ba", "k_ts", "k_bs")
+
+
+@dataclass(frozen=True)
+class Cell:
+    """A table cell: text, and for numbers the value and its origin (kind, file, path)."""
+
+    text: str
+    value: float = None
+    kind: str = None        # 'json', 'paper' or 'diff'
+    file: str = None
+    path: str = None
+
+
+@dataclass(frozen=True)
+class Table:
+    """A titled table with a header row and rows of :class:`Cell`."""
+
+    id: str
+    title: str
+    header: tuple
+    rows: tuple
+    note: str = ""
+
+
+def _fmt(value):
+    return "-" if value is None or not np.isfinite(value) else f"{value:.4g}"
+
+
+def _json(data, file, *keys):
+    value = data
+    for key in keys:
+        value = value[key]
+    return Cell(_fmt(value), float(value), "json", file, "/".join(map(str, keys)))
+
+
+def _paper(value, path):
+    return Cell(_fmt(value), float(value), "paper", None, path)
+
+
+def percent_difference(ours, paper):
+    """(ours - paper) / paper * 100 [%]."""
+    return (ours - paper) / paper * 100.0
+
+
+def _diff(ours, paper, path):
+    value = percent_difference(ours.value, paper.value)
+    return Cell(f"{value:+.1f} %", value, "diff", None, path)
+
+
+def components_table(components):
+    """The components: model size, clamped modes, first torsion/bending frequencies, k."""
+    fields = ("dofs", "modes", "f_torsion_hz", "f_bending_hz", "k_static")
+    rows = tuple((Cell(c), *(_json(components, "components.json", c, f) for f in fields))
+                 for c in COMPONENTS if c in components)
+    return Table("components", "Components (clamped finite-element models)",
+                 ("component", "DOFs", "modes kept", "f torsion [Hz]", "f bending [Hz]",
+                  "k static [N m/rad]"), rows)
+
+
+def table1(components):
+    """Table 1: first torsion and bending eigenfrequencies, ours beside the paper's."""
+    paper = paper_table1_eigenfrequencies()
+    rows = []
+    for c in COMPONENTS:
+        for shape in ("torsion", "bending"):
+            ours = _json(components, "components.json", c, f"f_{shape}_hz")
+            ref = _paper(paper[c][shape], f"table1/{c}/{shape}")
+            rows.append((Cell(c), Cell(shape), ours, ref, _diff(ours, ref, f"table1/{c}/{shape}")))
+    return Table("table1", "Table 1: first torsion and bending eigenfrequency",
+                 ("component", "mode shape", "ours [Hz]", "paper [Hz]", "difference"),
+                 tuple(rows))
+
+
+def table2(identify):
+    """Table 2: k about the static axis and its split k_t, k_b (eq. 12), ours and paper's."""
+    paper = paper_table2_stiffness()
+    rows = []
+    for c in COMPONENTS:
+        cells = [Cell(c)]
+        for name, keys in (("k", ("static", "k")), ("k_t", ("k_t",)), ("k_b", ("k_b",))):
+            ours = _json(identify, "identify.json", c, *keys)
+            ref = _paper(paper[c][name], f"table2/{c}/{name}")
+            cells += [ours, ref, _diff(ours, ref, f"table2/{c}/{name}")]
+        rows.append(tuple(cells))
+    header = ("component", *(f"{n} {w}" for n in ("k", "k_t", "k_b")
+                             for w in ("ours [N m/rad]", "paper [N m/rad]", "difference")))
+    return Table("table2", "Table 2: stiffness about the static axis k and about the torsion "
+                 "and bending axes (eq. 12)", header, tuple(rows))
+
+
+def identification_table(identify):
+    """Identified l, beta, b, k, c (and J, f) per component and test (eqs. 1-11)."""
+    names = ("l", "beta", "b", "k", "c", "J", "f_hz")
+    rows = []
+    for c in COMPONENTS:
+        for test in ("static", "torsion", "bending"):
+            values = identify[c][test]
+            rows.append((Cell(c), Cell(test), *(
+                _json(identify, "identify.json", c, test, n) if n in values else Cell("-")
+                for n in names)))
+    return Table("identification", "Identified lumped stiffness models",
+                 ("component", "test", "l [m]", "beta [rad]", "b [m]", "k [N m/rad]",
+                  "c [N m s/rad]", "J [kg m^2]", "f [Hz]"), tuple(rows))
+
+
+def _nearest(eigenvalues, target):
+    values = np.array([complex(re, im) for re, im in eigenvalues])
+    return values[np.argmin(np.abs(values - target))]
+
+
+def whipple_table(whipple):
+    """Whipple benchmark: our eigenvalue nearest to each published one, and |difference|."""
+    rows = []
+    for i, speed in enumerate(whipple["speeds_mps"]):
+        published = meijaard2007_eigenvalues().get(round(float(speed), 6))
+        if published is None:
+            continue
+        for name, ref in published.items():
+            ours = _nearest(whipple["eigenvalues"][i], ref)
+            index = [complex(*z) for z in whipple["eigenvalues"][i]].index(ours)
+            rows.append((Cell(f"{speed:g}"), Cell(name),
+                         _json(whipple, "whipple.json", "eigenvalues", i, index, 0),
+                         _json(whipple, "whipple.json", "eigenvalues", i, index, 1),
+                         _paper(ref.real, f"whipple/{speed:g}/{name}/re"),
+                         _paper(ref.imag, f"whipple/{speed:g}/{name}/im"),
+                         Cell(f"{abs(ours - ref):.2e}", float(abs(ours - ref)), "absdiff")))
+    return Table("whipple", "Whipple benchmark check (Meijaard et al. 2007)",
+                 ("v [m/s]", "eigenvalue", "ours Re [1/s]", "ours Im [1/s]", "published Re",
+                  "published Im", "|difference|"), tuple(rows),
+                 "The benchmark asks for agreement to 1e-6 or better.")
+
+
+def accuracy_table(accuracy):
+    """e_RMS% (eq. 18) per case and lumped variant (the numbers of Fig. 8)."""
+    rows = tuple((Cell(case), Cell(v), *(_json(accuracy, "accuracy.json", case, v, q)
+                                         for q in QUANTITIES))
+                 for case in (*COMPONENTS, "all") if case in accuracy
+                 for v in VARIANTS if v in accuracy[case])
+    return Table("accuracy", "e_RMS of lumped against flexible models [%] (Fig. 8)",
+                 ("case", "variant", *QUANTITIES), rows)
+
+
+def anova_table(sensitivity):
+    """Share of the index variance explained by main effects (ANOVA, Sect. 4.3)."""
+    rows = tuple((Cell(i), _json(sensitivity, "sensitivity.json", "anova_main_share", i))
+                 for i in INDICES)
+    return Table("anova", "ANOVA: share of main effects", ("index", "main-effect share"), rows)
+
+
+def pearson_table(sensitivity):
+    """Pearson coefficients (eqs. 16-17) per index and stiffness (the numbers of Fig. 10)."""
+    rows = tuple((Cell(i), *(_json(sensitivity, "sensitivity.json", "pearson", i, f)
+                             for f in FACTORS)) for i in INDICES)
+    return Table("pearson", "Pearson correlation coefficients (Fig. 10)", ("index", *FACTORS),
+                 rows)
+
+
+def timings_table(run_data):
+    """Timings: the campaign's (timings.json) and this report's own steps [s]."""
+    rows = [(Cell(f"campaign: {step}"), _json(run_data.campaign_timings, "timings.json", step))
+            for step, value in run_data.campaign_timings.items()
+            if isinstance(value, (int, float))]
+    rows += [(Cell(f"report: {step}"), Cell(f"{seconds:.2f}", seconds))
+             for step, seconds in run_data.timings]
+    return Table("timings", "Timings of the run", ("step", "wall time [s]"), tuple(rows))
