@@ -9,7 +9,7 @@ speeds are asked for):
 - wobble: oscillatory, 5-12 Hz, the largest steer share (at least one half);
 - weave: oscillatory, 0.5-5 Hz, the largest roll + yaw + lateral share;
 - capsize: real, the slowest mode with roll + yaw + lateral share of at least one half.
-Each is then followed speed by speed on a fine grid (steps of at most 0.25 m/s) to the
+Each is then followed speed by speed on a fine grid (steps of at most 0.3 m/s) to the
 candidate with the largest MAC = |phi_a^H phi_b|^2 / (|phi_a|^2 |phi_b|^2) with the previous
 shape; a mode whose best MAC falls below 0.5, or that changes kind (oscillatory/real), is lost
 (None) from there on.
@@ -25,7 +25,7 @@ __all__ = ["ModalSweep", "modal_sweep", "mac", "eigen_decomposition", "WEAVE_BAN
 WEAVE_BAND_HZ = (0.5, 5.0)
 WOBBLE_BAND_HZ = (5.0, 12.0)
 MODE_NAMES = ("weave", "wobble", "capsize")
-_MAX_STEP = 0.25
+_MAX_STEP = 0.3
 _MAC_LOST = 0.5
 
 
@@ -126,14 +126,15 @@ def _follow(values, shapes, start, index, step):
     track = {start: index}
     oscillatory = values[start, index].imag > 0
     shape = shapes[start, :, index]
+    norms = np.sum(np.abs(shapes) ** 2, axis=1)
     k = start + step
     while 0 <= k < len(values):
         ok = (values[k].imag > 0) if oscillatory else _is_real(values[k])
         ok &= np.isfinite(values[k])
         if not ok.any():
             break
-        macs = np.array([mac(shape, shapes[k, :, j]) if ok[j] else -1.0
-                         for j in range(values.shape[1])])
+        macs = np.abs(shape.conj() @ shapes[k]) ** 2 / (np.vdot(shape, shape).real * norms[k])
+        macs = np.where(ok, macs, -1.0)
         best = int(np.argmax(macs))
         if macs[best] < _MAC_LOST:
             break
@@ -144,10 +145,14 @@ def _follow(values, shapes, start, index, step):
 
 
 def _grid(speeds, reference):
-    low = min(float(np.min(speeds)), reference)
-    high = max(float(np.max(speeds)), reference)
-    count = max(int(np.ceil((high - low) / _MAX_STEP)), 1) + 1
-    return np.unique(np.concatenate([np.linspace(low, high, count), speeds]))
+    """The requested speeds and the reference speed, with points inserted in any gap wider
+    than the tracking step."""
+    points = np.unique(np.append(speeds, reference))
+    pieces = [points[:1]]
+    for low, high in zip(points[:-1], points[1:]):
+        count = int(np.ceil((high - low) / _MAX_STEP))
+        pieces.append(np.linspace(low, high, count + 1)[1:])
+    return np.concatenate(pieces)
 
 
 def modal_sweep(lin, speeds):

@@ -1,0 +1,62 @@
+"""Benchmark of the vehicle engine: A(v) for 171 speeds plus all eigenvalues, against numpy's
+batched eigvals on the same stacked matrices alone (design.md sect. 8; target <= 2 for the
+touring motorcycle).
+
+Printed (best of several repeats, all measured in this run):
+* one-off cost of the linearization (three complex-step linearizations + one check speed);
+* build: A(v) = E(v)^-1 A(v) from the speed polynomial for 171 speeds (40-210 km/h, 1 km/h);
+* build + eigvals, and its ratio to eigvals alone on the same (171, n, n) stack;
+* the full modal sweep (eigenvectors on the tracking grid, MAC tracking of weave, wobble and
+  capsize) and its ratio to eigvals alone.
+
+Run: OPENBLAS_NUM_THREADS=1 python benchmarks/bench_vehicle.py
+"""
+import os
+import time
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+
+from motoflex_ros.config import config_path  # noqa: E402
+from motoflex_ros.vehicle.linearize import linearize  # noqa: E402
+from motoflex_ros.vehicle.model import load_vehicle  # noqa: E402
+from motoflex_ros.vehicle.modes import modal_sweep  # noqa: E402
+
+SPEEDS = np.linspace(40.0, 210.0, 171) / 3.6
+REPEATS = 15
+
+
+def best_time(fun, repeats=REPEATS):
+    """Smallest wall time [s] of ``repeats`` calls of fun()."""
+    best = np.inf
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fun()
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def bench(name):
+    start = time.perf_counter()
+    lin = linearize(load_vehicle(config_path("vehicles", name)))
+    t_lin = time.perf_counter() - start
+    stack = lin.state_matrix(SPEEDS)
+    t_eig = best_time(lambda: np.linalg.eigvals(stack))
+    t_build = best_time(lambda: lin.state_matrix(SPEEDS))
+    t_total = best_time(lambda: np.linalg.eigvals(lin.state_matrix(SPEEDS)))
+    t_sweep = best_time(lambda: modal_sweep(lin, SPEEDS), repeats=5)
+    n = stack.shape[-1]
+    print(f"{name}: n = {n} states, {len(SPEEDS)} speeds")
+    print(f"  linearization (one-off)           {t_lin * 1e3:8.1f} ms")
+    print(f"  numpy eigvals on the stack        {t_eig * 1e3:8.2f} ms  (baseline)")
+    print(f"  build A(v), 171 speeds            {t_build * 1e3:8.2f} ms")
+    print(f"  build + eigvals                   {t_total * 1e3:8.2f} ms  ratio "
+          f"{t_total / t_eig:.2f}")
+    print(f"  modal sweep (eig + MAC tracking)  {t_sweep * 1e3:8.2f} ms  ratio "
+          f"{t_sweep / t_eig:.2f}")
+
+
+if __name__ == "__main__":
+    for vehicle in ("touring", "whipple_benchmark"):
+        bench(vehicle)
