@@ -1,0 +1,157 @@
+"""``motoflex study``: studies on the lumped motorcycle (Passigato et al. 2023, Sect. 4.3, 5.3).
+
+    motoflex study sensitivity [--levels 2] [--range 0.10] [--scheduler ADDRESS|local]
+                               [--identified FILE] [--nominal identified|table2]
+                               [--vehicle touring] [--step-kmh 1] [--json] [--plot DIR]
+
+``sensitivity``: full factorial over the six stiffnesses of the decomposed lumped motorcycle
+(k_tf, k_bf, k_ta, k_ba, k_ts, k_bs) at +/- range around the nominal values, weave and wobble
+over 40-210 km/h for every run, the stability indices (eqs. 13-15) in 40-100 and 100-210 km/h,
+ANOVA main-effect shares and Pearson coefficients (eqs. 16-17). --json prints {"nominal",
+"indices": {"weave_low": [...], ...}, "anova_main_share", "pearson"} (null where an index does
+not vary). --plot DIR writes the Fig. 10 bar chart and the runs' weave/wobble real parts.
+Without --identified the bench identification runs first (motoflex identify); --nominal table2
+takes k_t, k_b from the paper's Table 2 instead (axes still from the identification).
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from motoflex_ros.cli.output import emit_json, print_table
+from motoflex_ros.config import load_yaml, resolve_config
+from motoflex_ros.errors import ConfigError
+
+__all__ = ["register", "run", "SUBCOMMANDS"]
+
+_ARGS = "command line"
+_COMPONENTS = ("frame", "front_assembly", "swingarm")
+
+
+def _register_sensitivity(sub):
+    p = sub.add_parser("sensitivity", help="2^6 (or 3^6) factorial, ANOVA, Pearson (Fig. 10)",
+                       description="Sensitivity of weave and wobble to the six lumped "
+                                   "stiffnesses (Passigato et al. 2023, Sect. 5.3).")
+    p.add_argument("--levels", type=int, default=2, help="levels per factor (default 2)")
+    p.add_argument("--range", type=float, default=0.10, dest="rel_range",
+                   help="relative half-range of the stiffnesses (default 0.10)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on Dask: a scheduler address (tcp://host:8786) or 'local'")
+    p.add_argument("--identified", metavar="FILE",
+                   help="identification results (YAML/JSON of motoflex identify --out)")
+    p.add_argument("--nominal", choices=("identified", "table2"), default="identified",
+                   help="nominal k_t, k_b: identified (default) or the paper's Table 2")
+    p.add_argument("--vehicle", default="touring", help="vehicle YAML or shipped name")
+    p.add_argument("--step-kmh", type=float, default=1.0, help="speed step [km/h] (default 1)")
+    p.add_argument("--json", action="store_true", help="print JSON only")
+    p.add_argument("--plot", metavar="DIR", help="write the Fig. 10 bar chart and curves (PNG)")
+    p.set_defaults(func=run_sensitivity_verb)
+
+
+# study kinds: name -> function adding its parser (the accuracy study adds its own here)
+SUBCOMMANDS = {"sensitivity": _register_sensitivity}
+
+
+def register(subparsers):
+    """Add the ``study`` verb and its subcommands."""
+    parser = subparsers.add_parser("study", help="sensitivity (and accuracy) studies",
+                                   description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="study", metavar="STUDY")
+    sub.required = True
+    for add in SUBCOMMANDS.values():
+        add(sub)
+
+
+def run(args):
+    """Dispatch to the chosen study (argparse sets ``func`` per subcommand)."""
+    return args.func(args)
+
+
+def _identification(args):
+    if args.identified:
+        data = load_yaml(Path(args.identified))
+        if not isinstance(data, dict):
+            raise ConfigError(args.identified, "", "expected a mapping {component: results}")
+        return data
+    from motoflex_ros.bench.campaign import identify_components
+
+    print("running the bench identification ...", file=sys.stderr)
+    runs = identify_components(list(_COMPONENTS))
+    return {name: run.identification.to_dict() for name, (_, run) in runs.items()}
+
+
+def _with_table2(identified):
+    from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL
+    from motoflex_ros.study.motorcycle import with_stiffness
+
+    missing = [c for c in _COMPONENTS if c not in identified]
+    if missing:
+        raise ConfigError("identification results", missing[0], "missing")
+    return with_stiffness(identified, PAPER_TABLE2_NOMINAL)
+
+
+def _speeds(step_kmh):
+    if not step_kmh > 0 or step_kmh > 10:
+        raise ConfigError(_ARGS, "--step-kmh", f"must be in (0, 10] km/h, got {step_kmh:g}")
+    count = int(np.floor(170.0 / step_kmh + 1e-9)) + 1
+    kmh = 40.0 + step_kmh * np.arange(count)
+    if kmh[-1] < 210.0 - 1e-9:
+        kmh = np.append(kmh, 210.0)
+    return kmh / 3.6
+
+
+def _print_tables(result, seconds, stream):
+    rows = [[name, f"{idx.s.min():.4f}", f"{idx.s.mean():.4f}", f"{idx.s.max():.4f}",
+             f"{result.anova_main_share[name]:.4f}"] for name, idx in result.indices.items()]
+    print_table(["index", "s min", "s mean", "s max", "ANOVA main share"], rows, stream)
+    stream.write("\nPearson coefficients (positive: stiffer part, more damping)\n")
+    factors = list(result.nominal)
+    print_table(["index"] + factors,
+                [[name] + [f"{result.pearson[name][f]:+.3f}" for f in factors]
+                 for name in result.indices], stream)
+    stream.write("\nnominal [N m/rad]: " + ", ".join(f"{f} {k:.4g}" for f, k in
+                                                      result.nominal.items()) + "\n")
+    stream.write(f"{len(next(iter(result.indices.values())).s)} runs in {seconds:.2f} s\n")
+
+
+def _plots(result, run_outputs, speeds, directory):
+    from motoflex_ros.plots.study import plot_pearson_bars, plot_stability_curves
+
+    written = [plot_pearson_bars(result.pearson, Path(directory) / "fig10_pearson.png")]
+    for mode in ("weave", "wobble"):
+        written.append(plot_stability_curves(speeds, np.real(run_outputs[mode]),
+                                             Path(directory) / f"{mode}_real_parts.png",
+                                             mode=mode))
+    return written
+
+
+def run_sensitivity_verb(args):
+    """``motoflex study sensitivity``; returns the exit code."""
+    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL, full_factorial
+    from motoflex_ros.study.motorcycle import decomposed_study
+    from motoflex_ros.study.sensitivity import run_sensitivity
+    from motoflex_ros.vehicle.model import load_vehicle
+
+    full_factorial(PAPER_TABLE2_NOMINAL, args.levels, args.rel_range)  # check before the work
+    speeds = _speeds(args.step_kmh)
+    vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
+    identified = _identification(args)
+    if args.nominal == "table2":
+        identified = _with_table2(identified)
+    components = {name: load_component(name) for name in _COMPONENTS}
+    setup = decomposed_study(vehicle, components, identified, speeds)
+    try:
+        result, study_run = run_sensitivity(setup.study, setup.nominal, speeds, args.levels,
+                                            args.rel_range, args.scheduler, progress=True)
+    except OSError as exc:  # includes connection and timeout errors of the Dask client
+        raise ConfigError(_ARGS, "--scheduler", f"cannot use {args.scheduler}: {exc}") from None
+    if args.plot:
+        written = _plots(result, study_run.outputs, speeds, args.plot)
+        if not args.json:
+            print("wrote " + ", ".join(str(p) for p in written), file=sys.stderr)
+    if args.json:
+        emit_json(result.to_dict())
+    else:
+        _print_tables(result, study_run.seconds, sys.stdout)
+    return 0

@@ -1,0 +1,113 @@
+"""The sensitivity study on the vehicle engine's decomposed lumped motorcycle (Sect. 4.3, 5.3).
+
+The factors are the six joint stiffnesses of the "decomposed" variant (eq. 12: a torsion and a
+bending joint per component, :mod:`motoflex_ros.vehicle.lumped`), nominal values from the
+identification results ({component: {"k_t", "k_b", "torsion": {"l", "beta"}, "bending":
+{...}}}). The nominal motorcycle is linearized once (E(v), A(v) as speed polynomials); each
+stiffness enters A linearly (spring moment -k q and damper -gamma k q'), so the six directions
+dA/dk_i come from linearizations at one speed, checked for linearity, and every run's pencil is
+a sum (:class:`motoflex_ros.study.tracked.LinearStiffnessPencil`). Weave and wobble are named
+by the engine's modal sweep of the nominal motorcycle (mode shape at its reference speed) and
+tracked in every run by continuation.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.study.factorial import FACTOR_DESCRIPTIONS, FACTORS
+from motoflex_ros.study.tracked import pencil_study
+
+__all__ = ["FACTOR_KEYS", "DIRECTION_SPEED", "MotorcycleStudy", "nominal_stiffness",
+           "with_stiffness", "decomposed_study"]
+
+# factor -> (component, key of the identification results)
+FACTOR_KEYS = {f: (component, "k_t" if axis == "torsion" else "k_b")
+               for f, (component, axis) in FACTOR_DESCRIPTIONS.items()}
+DIRECTION_SPEED = 20.0
+"""Speed [m/s] of the linearizations that give the stiffness directions dA/dk_i."""
+
+_SOURCE = "identification results"
+
+
+@dataclass(frozen=True, eq=False)
+class MotorcycleStudy:
+    """study: the study function; nominal: {factor: k} [N m/rad]; sweep: the engine's
+    ModalSweep of the nominal motorcycle on the study's speeds."""
+
+    study: object
+    nominal: dict
+    sweep: object
+
+
+def nominal_stiffness(identified):
+    """{factor: k} [N m/rad] from identification results (k_t, k_b of each component)."""
+    nominal = {}
+    for factor in FACTORS:
+        component, key = FACTOR_KEYS[factor]
+        try:
+            value = float(identified[component][key])
+        except (KeyError, TypeError, ValueError):
+            raise ConfigError(_SOURCE, f"{component}.{key}", "missing (run motoflex identify "
+                                                             "or give a complete file)") from None
+        if not (np.isfinite(value) and value > 0):
+            raise ConfigError(_SOURCE, f"{component}.{key}",
+                              f"must be a positive stiffness for the sensitivity study, got "
+                              f"{value:.4g} N m/rad (check the eq. 12 decomposition)")
+        nominal[factor] = value
+    return nominal
+
+
+def with_stiffness(identified, values):
+    """A copy of the identification results with k_t, k_b replaced by ``values`` ({factor: k})."""
+    out = {name: dict(result) for name, result in identified.items()}
+    for factor, value in values.items():
+        component, key = FACTOR_KEYS[factor]
+        out[component][key] = float(value)
+    return out
+
+
+def _mode_targets(sweep):
+    targets = []
+    for mode in ("weave", "wobble"):
+        value = sweep.modes[mode][0]
+        if not np.isfinite(value):
+            raise ModelError(f"the nominal motorcycle's {mode} is not found at "
+                             f"{sweep.speeds[0] * 3.6:.0f} km/h (modal sweep)")
+        targets.append(complex(value))
+    return targets
+
+
+def decomposed_study(vehicle, components, identified, speeds):
+    """The sensitivity study function of the decomposed lumped motorcycle.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        The rigid motorcycle (e.g. the shipped "touring").
+    components : mapping
+        {component name: structures Component} placed in the motorcycle.
+    identified : mapping
+        Identification results of the three components.
+    speeds : array
+        Speed grid [m/s] (e.g. 40-210 km/h).
+
+    """
+    from motoflex_ros.vehicle.dynamics import build_system
+    from motoflex_ros.vehicle.linearize import linearize, linearize_at
+    from motoflex_ros.vehicle.lumped import COMPONENTS
+    from motoflex_ros.vehicle.modes import modal_sweep
+    from motoflex_ros.vehicle.variants import build_variant
+
+    nominal = nominal_stiffness(identified)
+
+    def model(values):
+        return build_variant(vehicle, "decomposed", list(COMPONENTS),
+                             with_stiffness(identified, values), components)
+
+    lin = linearize(model(nominal))
+    sweep = modal_sweep(lin, speeds)
+    study = pencil_study(lin.E_coeffs, lin.A_coeffs,
+                         lambda k: linearize_at(build_system(model(k)), DIRECTION_SPEED)[1],
+                         nominal, speeds, _mode_targets(sweep))
+    return MotorcycleStudy(study=study, nominal=nominal, sweep=sweep)
