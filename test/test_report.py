@@ -204,3 +204,17 @@ def test_report_not_a_run_folder_is_a_clear_error(tmp_path):
     assert result.returncode == 2
     assert "not a run folder" in result.stderr
     assert not (tmp_path / "missing").exists()
+
+
+def test_report_reads_campaign_identification_json(tmp_path):
+    folder = tmp_path / "run9"
+    folder.mkdir()
+    identify = _documents(np.random.default_rng(9))["identify.json"]
+    (folder / "identification.json").write_text(json.dumps(identify))
+    parser, _ = _report(folder, "--quiet")
+    cells = [c for c in parser.cells if c.get("data-kind") == "json"]
+    assert {c["data-json"] for c in cells} == {"identification.json"}
+    for cell in cells:
+        assert float(cell["data-value"]) == _at(identify, cell["data-path"])
+    assert ("identification.json", "frame/k_t") in {(c["data-json"], c["data-path"])
+                                                    for c in cells}

@@ -25,7 +25,7 @@ def _figures():
     return figures
 
 
-def _components(data):
+def _components(data, files):
     components = data["components"]
     parts = [tables.components_table(components), tables.table1(components)]
     for name in COMPONENTS:
@@ -34,12 +34,13 @@ def _components(data):
     return parts
 
 
-def _identification(data):
+def _identification(data, files):
     identify = data["identify"]
-    return [tables.identification_table(identify), tables.table2(identify)]
+    return [tables.identification_table(identify, files["identify"]),
+            tables.table2(identify, files["identify"])]
 
 
-def _axes(data):
+def _axes(data, files):
     identify = data["identify"]
     numbers = {"frame": 5, "front_assembly": 6, "swingarm": 7}
     return [Figure(f"fig{numbers[c]}_{c}", f"Fig. {numbers[c]} ({PAPER}): deformation axes of "
@@ -47,14 +48,14 @@ def _axes(data):
             for c in COMPONENTS]
 
 
-def _accuracy(data):
+def _accuracy(data, files):
     accuracy = data["accuracy"]
     return [tables.accuracy_table(accuracy),
             Figure("fig8", f"Fig. 8 ({PAPER}): e_RMS of the lumped models against the flexible "
                    "ones", _figures().fig8_figure(accuracy))]
 
 
-def _fig9(data):
+def _fig9(data, files):
     variants = {v: data[f"fig9_{v}"] for v in FIG9_VARIANTS if f"fig9_{v}" in data}
     if "flexible" not in variants or len(variants) < 2:
         raise KeyError("fig9_flexible and at least one lumped variant")
@@ -62,19 +63,19 @@ def _fig9(data):
                    "against speed", _figures().fig9_figure(variants))]
 
 
-def _sensitivity(data):
+def _sensitivity(data, files):
     sensitivity = data["sensitivity"]
     return [tables.anova_table(sensitivity), tables.pearson_table(sensitivity),
             Figure("fig10", f"Fig. 10 ({PAPER}): Pearson coefficients of weave and wobble "
                    "indices per stiffness", _figures().fig10_figure(sensitivity))]
 
 
-def _vehicle(data):
+def _vehicle(data, files):
     return [Figure("eig_touring", "Touring motorcycle (rigid): weave and wobble against speed",
                    _figures().fig9_figure({"rigid": data["eig"]}))]
 
 
-def _whipple(data):
+def _whipple(data, files):
     return [tables.whipple_table(data["whipple"])]
 
 
@@ -98,7 +99,7 @@ def _section(run_data, spec):
         reasons = "; ".join(f"{n}: {run_data.missing.get(n, 'missing')}" for n in absent)
         return Section(section_id, title, (Missing(title, reasons),))
     try:
-        return Section(section_id, title, tuple(builder(run_data.data)))
+        return Section(section_id, title, tuple(builder(run_data.data, run_data.files)))
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         missing = "; ".join(f"{k}: {v}" for k, v in run_data.missing.items()
                             if k.startswith(section_id))

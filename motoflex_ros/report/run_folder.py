@@ -6,7 +6,8 @@ from motoflex_ros.errors import MotoflexError
 __all__ = ["RunFolderError", "run_folder", "RUN_MARKERS"]
 
 # any of these makes a directory a run folder (the bag's metadata, the verbs' JSON outputs)
-RUN_MARKERS = ("metadata.yaml", "components.json", "identify.json", "eig.json",
+RUN_MARKERS = ("metadata.yaml", "components.json", "identify.json", "identification.json",
+               "eig.json",
                "accuracy.json", "sensitivity.json", "timings.json")
 
 

@@ -23,16 +23,18 @@ FIG9_VARIANTS = ("flexible", "state_of_the_art", "static", "torsion", "bending")
 
 @dataclass(frozen=True)
 class Source:
-    """One verb output: name, file in the run folder, verb arguments (without --json)."""
+    """One verb output: name, file in the run folder, verb arguments (without --json), and
+    other file names the same JSON may have (the campaign writes identification.json)."""
 
     name: str
     file: str
     args: tuple
+    aliases: tuple = ()
 
 
 SOURCES = (
     Source("components", "components.json", ("components",)),
-    Source("identify", "identify.json", ("identify",)),
+    Source("identify", "identify.json", ("identify",), ("identification.json",)),
     Source("eig", "eig.json", ("eig", "--vehicle", "touring", *SWEEP)),
     Source("accuracy", "accuracy.json", ("study", "accuracy")),
     Source("sensitivity", "sensitivity.json", ("study", "sensitivity")),
@@ -47,13 +49,15 @@ SOURCES = (
 @dataclass
 class RunData:
     """Loaded sources: ``data`` {name: JSON}, ``missing`` {name: reason}, ``timings``
-    [(step, seconds)] of this report's own steps, ``campaign_timings`` from timings.json."""
+    [(step, seconds)] of this report's own steps, ``campaign_timings`` from timings.json,
+    ``origins`` {name: where it came from}, ``files`` {name: JSON file in the run folder}."""
 
     data: dict = field(default_factory=dict)
     missing: dict = field(default_factory=dict)
     timings: list = field(default_factory=list)
     campaign_timings: dict = field(default_factory=dict)
     origins: dict = field(default_factory=dict)
+    files: dict = field(default_factory=dict)
 
 
 def _read(path):
@@ -84,10 +88,11 @@ def _save(folder, source, data):
 
 
 def _load_one(folder, source, compute, run):
-    path = folder / source.file
-    if path.is_file():
-        data, reason = _read(path)
-        origin = f"{source.file} (saved)"
+    saved = [folder / n for n in (source.file, *source.aliases) if (folder / n).is_file()]
+    run.files[source.name] = saved[0].name if saved else source.file
+    if saved:
+        data, reason = _read(saved[0])
+        origin = f"{saved[0].name} (saved)"
     elif compute:
         data, reason = _compute(source)
         origin = f"motoflex {' '.join(source.args)} --json (computed now, saved as {source.file})"

@@ -96,14 +96,14 @@ def table1(components):
                  tuple(rows))
 
 
-def table2(identify):
+def table2(identify, file="identify.json"):
     """Table 2: k about the static axis and its split k_t, k_b (eq. 12), ours and paper's."""
     paper = paper_table2_stiffness()
     rows = []
     for c in COMPONENTS:
         cells = [Cell(c)]
         for name, keys in (("k", ("static", "k")), ("k_t", ("k_t",)), ("k_b", ("k_b",))):
-            ours = _json(identify, "identify.json", c, *keys)
+            ours = _json(identify, file, c, *keys)
             ref = _paper(paper[c][name], f"table2/{c}/{name}")
             cells += [ours, ref, _diff(ours, ref, f"table2/{c}/{name}")]
         rows.append(tuple(cells))
@@ -113,7 +113,7 @@ def table2(identify):
                  "and bending axes (eq. 12)", header, tuple(rows))
 
 
-def identification_table(identify):
+def identification_table(identify, file="identify.json"):
     """Identified l, beta, b, k, c (and J, f) per component and test (eqs. 1-11)."""
     names = ("l", "beta", "b", "k", "c", "J", "f_hz")
     rows = []
@@ -121,7 +121,7 @@ def identification_table(identify):
         for test in ("static", "torsion", "bending"):
             values = identify[c][test]
             rows.append((Cell(c), Cell(test), *(
-                _json(identify, "identify.json", c, test, n) if n in values else Cell("-")
+                _json(identify, file, c, test, n) if n in values else Cell("-")
                 for n in names)))
     return Table("identification", "Identified lumped stiffness models",
                  ("component", "test", "l [m]", "beta [rad]", "b [m]", "k [N m/rad]",
