@@ -91,4 +91,6 @@ def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, drain_t
 
 def pacer_failed(graph, pacer, code):
     """RunFailed for a pacing node that ended with ``code``."""
-    return RunFailed(f"node '{pacer}' failed ({describe_exit(code)}): {graph.log_tail(pacer)}")
+    verb = "died" if code < 0 else "failed"
+    return RunFailed(f"node '{pacer}' {verb} ({describe_exit(code)}); its log: "
+                     f"{graph.log_dir / (pacer + '.log')}: {graph.log_tail(pacer)}")
