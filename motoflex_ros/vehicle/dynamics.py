@@ -184,6 +184,8 @@ def residual(system, xdot, x, v, applied=None):
     forces -= tyre_rows[1]
     if applied is not None:
         forces = forces - applied
+    for element in system.model.elements:
+        forces = forces + element.generalized_residual(system, frames, q, u, udot)
     S = _partial_velocities(system, G)
     kin = xdot[:nq] - u[list(system.indep_pos)]
     return np.concatenate([kin, S.T @ forces, np.array(tyre_rows[0], dtype)])

@@ -73,7 +73,12 @@ class Wheel:
 @dataclass(frozen=True)
 class VehicleModel:
     """A complete vehicle description (see module docstring); roles map 'steer' etc. to joints;
-    reference_speed [m/s] is where weave, wobble and capsize are named before tracking."""
+    reference_speed [m/s] is where weave, wobble and capsize are named before tracking.
+
+    elements: extra force elements (e.g. superelement stiffness/damping acting on joint or
+    modal coordinates), objects with ``generalized_residual(system, frames, q, u, udot)``
+    returning a complex-safe vector over all coordinates that is added to the residual of the
+    equations of motion (inertia minus applied forces: a spring k q enters as +k q)."""
 
     name: str
     source: str
@@ -85,6 +90,7 @@ class VehicleModel:
     roles: dict = field(default_factory=dict)
     reference_speed: float = 100.0 / 3.6
     flex: dict = field(default_factory=dict)
+    elements: tuple = ()
 
     def body(self, name):
         """The body called ``name``."""
@@ -138,13 +144,15 @@ def _body(name, spec, source):
     if spec["parts"]:
         mass, com, inertia = combine_parts(spec["parts"], source, key)
     else:
-        for needed in ("mass", "com", "inertia"):
+        massless = spec["mass"] == 0.0 and spec["inertia"] is None
+        for needed in ("mass", "com") if massless else ("mass", "com", "inertia"):
             if spec[needed] is None:
                 raise ConfigError(source, f"{key}.{needed}", "missing (give mass, com and "
-                                                             "inertia, or parts)")
+                                                             "inertia, or parts; a massless "
+                                                             "body: mass 0 and com)")
         mass, com = spec["mass"], np.asarray(spec["com"], float)
-        inertia = inertia_matrix(spec["inertia"])
-        if mass > 0.0 or np.any(inertia):
+        inertia = np.zeros((3, 3)) if massless else inertia_matrix(spec["inertia"])
+        if not massless:
             check_inertia(inertia, source, f"{key}.inertia")
     return Body(name, float(mass), np.asarray(com, float), inertia)
 
