@@ -4,6 +4,7 @@ The bag is written here with the project's bag writer and CDR from the rosbags t
 the topics and types of issue 8; its numbers come from the shipped frame model (static response
 of the clamped reduced model), so the recording is checked against the model it shows.
 """
+import json
 import subprocess
 import sys
 
@@ -16,6 +17,7 @@ from motoflex_ros.structures import load_component
 
 N_LOAD = 120
 N_BODY = 50
+N_SPEEDS = 18          # 40..210 km/h in steps of 10
 RATE_HZ = 100.0
 
 
@@ -109,21 +111,42 @@ def _vehicle(writer, ts):
     _write(writer, ts, "/vehicle/joint_axes", "visualization_msgs/msg/Marker", 10**9, marker)
 
 
-def make_bag(path):
-    """A small run bag with the rig's topics; returns the identified static values it holds."""
+def _identification_file(path, reduced, static):
+    """identification.json as the campaign writes it: static test, mode axes, a 2-step sweep."""
+    modes = {label: reduced.mode_axis(label) for label in ("torsion", "bending")}
+    result = {"static": static,
+              **{label: {"l": a.l, "beta": a.beta, "b": a.b} for label, a in modes.items()},
+              "k_t": 1.0e6, "k_b": 2.0e6,
+              "sweep": [{"f_hz": f, "l": static["l"], "beta": static["beta"] + 0.01 * f,
+                         "b": static["b"]} for f in (1.0, 20.0)]}
+    (path / "identification.json").write_text(json.dumps({"frame": result}))
+
+
+def make_bag(path, with_results=False):
+    """A small run bag with the rig's topics; returns the identified static values it holds.
+
+    ``with_results`` adds the run folder's result files: identification.json and eig.json
+    (from ``motoflex eig`` on the shipped touring motorcycle).
+    """
     ts = _ts()
     reduced = load_component("frame").clamped_reduced()
     with BagWriter(path) as writer:
         _bench(writer, ts, reduced)
         values = _identification(writer, ts, reduced)
         _vehicle(writer, ts)
+    if with_results:
+        _identification_file(path, reduced, values)
+        eig = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "eig", "--vehicle",
+                              "touring", "--range-kmh", "40", "210", "--step", "10", "--json"],
+                             capture_output=True, text=True, check=True)
+        (path / "eig.json").write_text(eig.stdout)
     return values
 
 
 @pytest.fixture(scope="module")
 def converted(tmp_path_factory):
     bag = tmp_path_factory.mktemp("bags") / "run1"
-    values = make_bag(bag)
+    values = make_bag(bag, with_results=True)
     result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "rerun", str(bag)],
                             capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
@@ -157,6 +180,10 @@ def test_rerun_bag_roundtrip_entity_counts(converted):
         "/vehicle/road_test/joints/roll": N_BODY,
         "/vehicle/road_test/body0": N_BODY,
         "/vehicle/road_test/body2": N_BODY,
+        "/vehicle/eigenvalues/weave/real_part": N_SPEEDS,
+        "/vehicle/eigenvalues/wobble/frequency_hz": N_SPEEDS,
+        "/vehicle/eigenvalues/all/real_part": N_SPEEDS,
+        "/identification/frame/decomposition/k_t": 1,
     }
     for path, count in expected.items():
         assert rows.get(path, 0) == count, (path, rows.get(path))
@@ -164,8 +191,18 @@ def test_rerun_bag_roundtrip_entity_counts(converted):
     for path in ("/bench/frame", "/bench/frame/structure/undeformed",
                  "/bench/frame/structure/clamps", "/bench/frame/structure/load_point",
                  "/bench/frame/structure/exaggeration", "/bench/frame/axes/static",
-                 "/bench/frame/axes/static/joint", "/vehicle/joint_axes/frame_static_0"):
+                 "/bench/frame/axes/static/joint", "/bench/frame/axes/torsion",
+                 "/bench/frame/axes/bending", "/bench/frame/axes/sweep",
+                 "/vehicle/joint_axes/frame_static_0"):
         assert static.get(path, 0) >= 1, path
+
+
+def test_rerun_bag_eigenvalues_roundtrip(converted):
+    bag, _, _ = converted
+    eig = json.loads((bag / "eig.json").read_text())
+    got = scalar_values(bag / "run1.rrd", "/vehicle/eigenvalues/weave/real_part")
+    want = [np.nan if z is None else z[0] for z in eig["modes"]["weave"]]
+    np.testing.assert_array_equal(got, want)
 
 
 def test_rerun_bag_identified_values_roundtrip(converted):

@@ -15,10 +15,15 @@ rosbags type store (no rclpy needed), then logs with :mod:`.rerun_log` and
 - /vehicle/joint_states (sensor_msgs/JointState), /vehicle/bodies (geometry_msgs/PoseArray),
   visualization_msgs/Marker joint axes: the road test and the identified axes.
 
+Result files of the run folder are logged too: identification.json (or identify.json: the
+static, torsion, bending and sweep axes, k_t and k_b) and eig.json (eigenvalues against speed,
+weave and wobble).
+
 Message times are the header stamps (simulated time) where a message has one, else the bag's
 log time; ``sim_time`` is measured from the bag's first message.
 """
 import functools
+import json
 import re
 from collections import defaultdict
 from pathlib import Path
@@ -154,14 +159,14 @@ def _number(text):
         return None
 
 
-def _log_identification(rec, samples, t0, known):
+def _log_identification(rec, samples, t0, known, draw_axes):
     for t_ns, msg in samples:
         for status in msg.status:
             component, test = _status_key(status.name, known)
             values = {kv.key: _number(kv.value) for kv in status.values}
             values = {k: v for k, v in values.items() if v is not None}
             rl.log_identification(rec, component, test, values, (t_ns - t0) * 1e-9)
-            model = _model(component) if component in known else None
+            model = _model(component) if component in known and draw_axes else None
             if model and test in rl.AXIS_COLORS and {"l", "beta"} <= values.keys():
                 rl.log_axis(rec, component, test, values["l"], values["beta"], model[0].q0)
 
@@ -191,6 +196,66 @@ def _log_markers_msgs(rec, samples):
             rv.log_joint_axis(rec, name, (a + b) / 2, b - a, np.linalg.norm(b - a) / 2)
 
 
+def _read_json(folder, *names):
+    for name in names:
+        if (folder / name).is_file():
+            return json.loads((folder / name).read_text(encoding="utf-8"))
+    return None
+
+
+def _log_identified_axes(rec, identify, sim_time_s, log_values):
+    """Axes (static, torsion, bending, sweep) and (``log_values``) values of identify-format
+    results."""
+    for component, result in identify.items():
+        model = _model(component)
+        if not isinstance(result, dict) or model is None:
+            continue
+        q0 = model[0].q0
+        for test in ("static", "torsion", "bending"):
+            values = result.get(test, {})
+            if {"l", "beta"} <= values.keys():
+                rl.log_axis(rec, component, test, values["l"], values["beta"], q0)
+                if log_values:
+                    rl.log_identification(rec, component, test, values, sim_time_s)
+        sweep = result.get("sweep") or []
+        if sweep:
+            rl.log_sweep_axes(rec, component, [s["f_hz"] for s in sweep],
+                              [s["l"] for s in sweep], [s["beta"] for s in sweep], q0)
+        split = {k: result[k] for k in ("k_t", "k_b") if k in result}
+        rl.log_identification(rec, component, "decomposition", split, sim_time_s)
+
+
+def _pairs(values):
+    return np.array([complex(*z) if z is not None else complex(np.nan, np.nan) for z in values])
+
+
+def _log_eig(rec, eig):
+    rv.log_eigenvalues(rec, eig["speeds_mps"], _padded(eig["eigenvalues"]),
+                       {m: _pairs(v) for m, v in eig.get("modes", {}).items()})
+
+
+def _padded(eigenvalues):
+    """(n_speeds, n_max) complex, NaN-padded (the count may differ between speeds)."""
+    width = max(len(e) for e in eigenvalues)
+    out = np.full((len(eigenvalues), width), np.nan, complex)
+    for i, row in enumerate(eigenvalues):
+        out[i, :len(row)] = [complex(re, im) for re, im in row]
+    return out
+
+
+def _log_run_files(rec, folder, identify, end_time_s, log_values):
+    """The run folder's result files: identification (axes, sweep) and eig.json."""
+    done = []
+    if identify:
+        _log_identified_axes(rec, identify, end_time_s, log_values)
+        done.append("identification")
+    eig = _read_json(folder, "eig.json")
+    if eig:
+        _log_eig(rec, eig)
+        done.append("eig")
+    return done
+
+
 def convert_bag(bag_dir, rrd_path=None):
     """Write the rerun recording of a recorded run; returns (rrd path, topics converted).
 
@@ -206,6 +271,7 @@ def convert_bag(bag_dir, rrd_path=None):
         if match:
             bench[match["component"]][match["what"]] = grouped[topic]
     converted = []
+    identify = _read_json(bag_dir, "identification.json", "identify.json")
     with rl.RunRecording(rrd_path or rrd_path_of(bag_dir), bag_dir.name,
                          default_blueprint(sorted(bench))) as run:
         for component, topics in sorted(bench.items()):
@@ -217,7 +283,8 @@ def convert_bag(bag_dir, rrd_path=None):
                     _log_markers(run.stream, component, kind, topics[f"markers/{kind}"], t0)
             converted += [f"/bench/{component}/{what}" for what in topics]
         if "/identification/results" in grouped:
-            _log_identification(run.stream, grouped["/identification/results"], t0, set(bench))
+            _log_identification(run.stream, grouped["/identification/results"], t0, set(bench),
+                                draw_axes=identify is None)
             converted.append("/identification/results")
         _log_vehicle(run.stream, grouped, t0)
         converted += [t for t in ("/vehicle/joint_states", "/vehicle/bodies") if t in grouped]
@@ -225,4 +292,6 @@ def convert_bag(bag_dir, rrd_path=None):
         for topic in marker_topics:
             _log_markers_msgs(run.stream, grouped[topic])
         converted += marker_topics
+        converted += _log_run_files(run.stream, bag_dir, identify, info.duration_ns * 1e-9,
+                                    log_values="/identification/results" not in grouped)
     return run.path, sorted(converted)

@@ -34,8 +34,10 @@ def scalar_values(rrd_path, entity_path):
         if chunk.entity_path != entity_path:
             continue
         batch = chunk.to_record_batch()
-        column = batch.column(batch.schema.get_field_index("Scalars:scalars"))
-        values += [row[0] for row in column.to_pylist()]
+        index = batch.schema.get_field_index("Scalars:scalars")
+        if index < 0:       # e.g. the static SeriesLines styling of the same entity
+            continue
+        values += [row[0] for row in batch.column(index).to_pylist()]
     return values
 
 
