@@ -10,4 +10,20 @@ data), ``schema`` (YAML validation), ``kinematics`` (tree kinematics), ``contact
 contact on the toroidal tyre), ``tyre`` (linear and Magic Formula tyres), ``dynamics`` (Kane
 residual), ``linearize`` (complex-step linearization, speed polynomial), ``modes`` (MAC tracking
 of weave/wobble/capsize), ``response`` (steer-pulse response, matrix pencil).
+
+Public API::
+
+    model = load_vehicle(path)                 # or vehicle_from_dict(data, source)
+    lin = linearize(model)                     # LinearVehicle; E(v), A(v) polynomial in v
+    E, A = lin.pencil(speeds)                  # stacked descriptor pencil
+    A_s = lin.state_matrix(speeds)             # E^-1 A (regular E only)
+    lin.eigenvalues(v)                         # finite eigenvalues (QZ; massless bodies ok)
+    lin.second_order()                         # M, C0, C1, K0, K2 (knife-edge wheels)
+    sweep = modal_sweep(lin, speeds)           # weave, wobble, capsize tracked by MAC
+    steer_pulse_response(lin, v); matrix_pencil_poles(samples, dt)
+
+Variants edit the model, never the engine: bodies (massless ones too), joints and wheels are
+plain frozen dataclasses (dataclasses.replace), and ``VehicleModel.elements`` takes force
+elements whose ``generalized_residual(system, frames, q, u, udot)`` is added to the equations
+of motion (superelement stiffness, damping and inertia coupling on joint or modal coordinates).
 """
