@@ -21,7 +21,7 @@ from motoflex_ros.identify.identifier import Identifier
 from motoflex_ros.identify.results import identify_component
 
 __all__ = ["CampaignSetup", "CampaignRun", "setup_campaign", "make_stages", "run_campaign",
-           "identify_components"]
+           "identify_components", "only_tests", "with_sensor"]
 
 
 @dataclass(frozen=True)
@@ -63,6 +63,12 @@ def setup_campaign(component, protocol=None, noise_m=None):
                          plan_campaign(protocol, reduced, modes))
 
 
+def with_sensor(setup, **changes):
+    """The same setup with sensor settings changed (e.g. noise_m=0.0, resolution_m=0.0)."""
+    protocol = replace(setup.protocol, sensor=replace(setup.protocol.sensor, **changes))
+    return replace(setup, protocol=protocol)
+
+
 def make_stages(setup, seed=0):
     """The four stage objects of a campaign: actuator, simulator, sensor, identifier."""
     q0 = setup.reduced.q0
@@ -78,8 +84,18 @@ def _deliver(identifier, actuator, measurements):
             actuator.end_test(done)
 
 
+def only_tests(setup, names):
+    """The same setup with only the tests called ``names`` (e.g. ('static',)) in its plan."""
+    tests = tuple(t for t in setup.plan.tests if t.name in names)
+    return replace(setup, plan=replace(setup.plan, tests=tests))
+
+
 def run_campaign(setup, seed=0, trace=False):
-    """Run the whole campaign offline; ``trace`` keeps (t, force, true motion, test) arrays."""
+    """Run the campaign offline; ``trace`` keeps (t, force, true motion, test) arrays.
+
+    The identification is made when the plan has the static, torsion and bending tests
+    (otherwise ``identification`` is None and only the readings are returned).
+    """
     actuator, simulator, sensor, identifier = make_stages(setup, seed)
     q0 = np.asarray(setup.reduced.q0, float)
     rows, n = [], 0
@@ -94,7 +110,9 @@ def run_campaign(setup, seed=0, trace=False):
         n += 1
     _deliver(identifier, actuator, sensor.flush())
     readings = identifier.readings()
-    result = identify_component(setup.name, readings, setup.modes, q0)
+    result = None
+    if {"static", "torsion", "bending"} <= set(readings):
+        result = identify_component(setup.name, readings, setup.modes, q0)
     table = None
     if trace:
         table = {"t": np.array([r[0] for r in rows]), "force": np.array([r[1] for r in rows]),

@@ -20,9 +20,9 @@ import numpy as np
 __all__ = ["SensorSettings", "Measurement", "MarkerSensor", "fit_pose", "rotation_from_vector",
            "rotation_vector", "marker_positions", "DEFAULT_MARKERS"]
 
-# four non-coplanar markers on a 0.1 m cluster around the loaded end [m]
-DEFAULT_MARKERS = ((0.1, 0.0, 0.0), (-0.05, 0.0866, 0.0), (-0.05, -0.0866, 0.0),
-                   (0.0, 0.0, 0.1))
+# four non-coplanar markers on a plate of 0.15 m radius around the loaded end [m]
+DEFAULT_MARKERS = ((0.15, 0.0, 0.0), (-0.075, 0.13, 0.0), (-0.075, -0.13, 0.0),
+                   (0.0, 0.0, 0.15))
 
 
 @dataclass(frozen=True)

@@ -169,7 +169,7 @@ class Identifier:
     def add_load(self, sample):
         """Register a commanded load sample (before its measurement arrives)."""
         self._loads[sample.index] = sample
-        if sample.test_start:
+        if sample.test_start or sample.test not in self._t0:
             self._t0[sample.test] = sample.t
 
     def _analyser(self, sample):

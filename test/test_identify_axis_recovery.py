@@ -1,0 +1,57 @@
+"""Exact recovery: a small rigid rotation about a known axis in the x-z plane, measured by the
+markers and fitted (Kabsch), gives back that axis's l, beta, b through eqs. (1)-(7)."""
+import itertools
+
+import numpy as np
+import pytest
+
+from motoflex_ros.bench.sensor import (
+    DEFAULT_MARKERS,
+    MarkerSensor,
+    SensorSettings,
+    marker_positions,
+    rotation_from_vector,
+)
+from motoflex_ros.identify.axis import deformation_axis
+
+EXACT = SensorSettings(noise_m=0.0, resolution_m=0.0, latency_s=0.0)
+Q0S = [(0.6, 0.3), (-0.6, 0.3), (-0.5, -0.4), (0.4, -0.7), (0.0, 0.5), (0.7, 0.0)]
+BETAS = [1e-3, 0.01, 0.7, 1.4, np.pi / 2, 1.9, 2.6, np.pi - 0.01, np.pi - 1e-3]
+JOINTS = [0.2, -0.3]
+ANGLES = [1e-3, -2e-4]
+
+
+def rigid_rotation(q0, l, beta, angle):
+    """Pose of the loaded end after a rotation ``angle`` about the axis (l, beta)."""
+    length = np.hypot(q0[0], q0[2])
+    theta = np.arctan2(q0[2], q0[0]) + beta
+    joint = l * np.array([q0[0], 0.0, q0[2]]) / length
+    rot = rotation_from_vector(angle * np.array([np.cos(theta), 0.0, np.sin(theta)]))
+    return joint + rot @ (q0 - joint), rot
+
+
+@pytest.mark.parametrize("xz, beta, l, angle",
+                         list(itertools.product(Q0S, BETAS, JOINTS, ANGLES)))
+def test_rigid_rotation_axis_recovered_exactly(xz, beta, l, angle):
+    q0 = np.array([xz[0], 0.0, xz[1]])
+    q, rot = rigid_rotation(q0, l, beta, angle)
+    sensor = MarkerSensor(EXACT, q0, seed=0)
+    measured = sensor.capture(0, 0.0, q, rot)[0]
+    axis = deformation_axis(measured.position, measured.rotation, q0)
+    length = np.hypot(q0[0], q0[2])
+    # rounding error of l: about eps / (|angle| sin(beta)) (axis nearly parallel to O-q0)
+    tol = max(1e-9, 10 * np.finfo(float).eps / (abs(angle) * np.sin(beta)))
+    assert axis.l == pytest.approx(l, abs=tol)
+    assert np.angle(np.exp(2j * (axis.beta - beta))) / 2 == pytest.approx(0.0, abs=1e-9)
+    assert 0.0 <= axis.beta < np.pi
+    assert axis.b == pytest.approx((length - l) * np.sin(beta), abs=1e-9)
+
+
+def test_marker_positions_of_rigid_rotation_keep_distances_roundtrip():
+    q0 = np.array([0.6, 0.0, 0.3])
+    q, rot = rigid_rotation(q0, 0.2, 1.0, 1e-2)
+    moved = marker_positions(q, rot, q0, DEFAULT_MARKERS)
+    ref = q0 + np.asarray(DEFAULT_MARKERS)
+    for i, j in itertools.combinations(range(len(ref)), 2):
+        assert np.linalg.norm(moved[i] - moved[j]) == pytest.approx(
+            np.linalg.norm(ref[i] - ref[j]), abs=1e-15)

@@ -1,0 +1,79 @@
+"""The bench campaign on the three motorcycle components with an exact sensor (no noise, no
+rounding): harmonic tests against the static test, the modes and the frequency response; the
+sweep's migration (Figs. 5-7); the free decay against the eigenvalues (eq. 9)."""
+import numpy as np
+import pytest
+
+from motoflex_ros.bench.campaign import run_campaign, setup_campaign, with_sensor
+from motoflex_ros.bench.response import harmonic_peak_motion
+from motoflex_ros.identify.decay import match_pole
+from motoflex_ros.identify.peaks import axis_of_pose, unwrap_angle
+
+COMPONENTS = ("frame", "front_assembly", "swingarm")
+
+
+@pytest.fixture(scope="module", params=COMPONENTS)
+def exact_campaign(request):
+    setup = with_sensor(setup_campaign(request.param), noise_m=0.0, resolution_m=0.0)
+    return setup, run_campaign(setup)
+
+
+def steady_axis(setup, frequency):
+    """Deformation axis of the steady harmonic response at its peak (frequency domain)."""
+    motion = harmonic_peak_motion(setup.reduced, frequency)
+    return axis_of_pose(motion * 1e-6 / np.abs(motion).max(), setup.reduced.q0)
+
+
+def test_harmonic_far_below_first_mode_equals_static(exact_campaign):
+    setup, run = exact_campaign
+    result = run.identification
+    slow = result.sweep[0]
+    assert slow["f_hz"] <= 0.05 * setup.modes.first_lateral().f_hz
+    for key in ("l", "beta", "b"):
+        assert slow[key] == pytest.approx(result.static[key], rel=0.01), key
+
+
+def test_harmonic_tests_match_frequency_response(exact_campaign):
+    """Every harmonic and sweep test = the steady state of the frequency response."""
+    setup, run = exact_campaign
+    length = np.linalg.norm(setup.reduced.q0)
+    for reading in run.readings.values():
+        if not hasattr(reading, "peaks"):
+            continue
+        (l, beta, b), _ = reading.mean()
+        ref = steady_axis(setup, reading.frequency_hz)
+        assert unwrap_angle(beta, ref.beta) == pytest.approx(ref.beta, abs=5e-3), reading.name
+        assert b == pytest.approx(ref.b, abs=2e-3 * length), reading.name
+
+
+def test_harmonic_at_first_eigenfrequency_gives_mode_axis(exact_campaign):
+    setup, run = exact_campaign
+    first = setup.modes.first_lateral()
+    model = getattr(run.identification, first.label)
+    assert model["f_hz"] == pytest.approx(first.f_hz, rel=1e-12)
+    mode = setup.reduced.mode_axis(first.label)
+    length = np.linalg.norm(setup.reduced.q0)
+    assert unwrap_angle(model["beta"], mode.beta) == pytest.approx(mode.beta, abs=0.02)
+    assert model["b"] == pytest.approx(mode.b, abs=0.02 * length)
+
+
+def test_sweep_moves_monotonically_from_static_to_first_mode(exact_campaign):
+    setup, run = exact_campaign
+    result = run.identification
+    target = steady_axis(setup, setup.modes.first_lateral().f_hz).beta
+    betas = np.array([unwrap_angle(p["beta"], result.static["beta"]) for p in result.sweep])
+    target = unwrap_angle(target, result.static["beta"])
+    distance = np.abs(betas - target)
+    assert np.all(np.diff(distance) < 1e-4), distance
+    assert np.all(np.sign(np.diff(betas)) == np.sign(target - betas[0]))
+
+
+def test_free_decay_matches_eigenvalues(exact_campaign):
+    setup, run = exact_campaign
+    poles = list(run.readings["decay"].poles)
+    for label in ("torsion", "bending"):
+        mode = setup.modes.first(label)
+        pole = match_pole(poles, mode.omega_n, tolerance=0.01)
+        assert pole is not None, label
+        assert pole.omega_n == pytest.approx(mode.omega_n, rel=1e-6)
+        assert pole.zeta == pytest.approx(mode.zeta, rel=1e-4)
