@@ -90,3 +90,21 @@ def test_force_element_equals_joint_spring_roundtrip(whipple):
     with_joint = linearize(vehicle_from_dict(data))
     np.testing.assert_allclose(with_element.A_coeffs, with_joint.A_coeffs, atol=1e-10)
     np.testing.assert_allclose(with_element.E_coeffs, with_joint.E_coeffs, atol=1e-10)
+
+
+def test_pulse_response_with_singular_descriptor_roundtrip(whipple, rigid):
+    """A massless body that carries nothing changes nothing: the steer-pulse response of the
+    bicycle with it (singular E, reduced to its regular part) equals the rigid one."""
+    from motoflex_ros.vehicle.response import steer_pulse_response
+
+    data = copy.deepcopy(whipple)
+    data["bodies"]["dangling"] = MASSLESS
+    data["joints"]["dangling_hinge"] = {"type": "revolute", "parent": "rear_frame",
+                                        "child": "dangling", "axis": [0.0, 1.0, 0.0],
+                                        "point": [0.5, 0.0, 0.6], "stiffness": 300.0,
+                                        "damping": 20.0}
+    singular = linearize(vehicle_from_dict(data, "dangling"))
+    names = ("steer", "roll", "roll_rate", "steer_rate")
+    want = steer_pulse_response(rigid, 5.0, torque=1.0, t_end=2.0, outputs=names).outputs
+    got = steer_pulse_response(singular, 5.0, torque=1.0, t_end=2.0, outputs=names).outputs
+    np.testing.assert_allclose(got, want, atol=1e-10 * np.abs(want).max())

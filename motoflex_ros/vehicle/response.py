@@ -3,7 +3,8 @@ weave/wobble identified back from it by the matrix-pencil method.
 
 Exact discretisation (zero-order hold, exact for a pulse that starts and ends on samples):
 x[k+1] = Phi x[k] + Gamma u[k] with [[Phi, Gamma], [0, I]] = expm([[A, B], [0, 0]] dt), where
-A = E^-1 A(v) and B = E^-1 b, b the input column of a joint torque (1 N m on the joint).
+A = E^-1 A(v) and B = E^-1 b, b the input column of a joint torque (1 N m on the joint); a
+singular E (massless bodies) is first reduced to its regular part (index 1).
 
 Matrix pencil (Hua & Sarkar, IEEE Trans. ASSP 38(5), 1990): the free response after the pulse,
 y[k] = sum_i r_i z_i^k, is arranged in a (block) Hankel matrix Y (one block per output, pencil
@@ -18,7 +19,8 @@ import scipy.linalg
 from motoflex_ros.errors import ModelError
 from motoflex_ros.vehicle.dynamics import residual
 
-__all__ = ["PulseResponse", "joint_input", "steer_pulse_response", "matrix_pencil_poles"]
+__all__ = ["PulseResponse", "joint_input", "regular_part", "steer_pulse_response",
+           "matrix_pencil_poles"]
 
 
 @dataclass(frozen=True)
@@ -57,26 +59,52 @@ def _discretise(a, b, dt):
     return exp[:n, :n], exp[:n, n]
 
 
+def regular_part(E, A, b, rtol=1e-10):
+    """Ordinary state-space form of an index-1 descriptor system E x' = A x + b u.
+
+    With E = U diag(s, 0) V^T (SVD) and z = V^T x split into (z1, z2), the rows of E's null
+    space are algebraic: z2 = -A22^-1 (A21 z1 + b2 u) (massless bodies). Returns (a, bz, P, d)
+    with z1' = a z1 + bz u and x = P z1 + d u; a regular E gives a = E^-1 A, bz = E^-1 b,
+    P = I, d = 0.
+    """
+    U, s, Vt = np.linalg.svd(E)
+    r = int(np.sum(s > rtol * s[0]))
+    At, bt = U.T @ A @ Vt.T, U.T @ b
+    V1, V2 = Vt[:r].T, Vt[r:].T
+    if r == E.shape[0]:
+        n = E.shape[0]
+        return np.linalg.solve(E, A), np.linalg.solve(E, b), np.eye(n), np.zeros(n)
+    try:
+        solve22 = np.linalg.solve(At[r:, r:], np.column_stack([At[r:, :r], bt[r:]]))
+    except np.linalg.LinAlgError:
+        raise ModelError("descriptor system of index > 1 (A22 singular): not supported") from None
+    k_z, k_u = -solve22[:, :r], -solve22[:, r]
+    a = (At[:r, :r] + At[:r, r:] @ k_z) / s[:r, None]
+    bz = (bt[:r] + At[:r, r:] @ k_u) / s[:r]
+    return a, bz, V1 + V2 @ k_z, V2 @ k_u
+
+
 def steer_pulse_response(lin, speed, torque=20.0, duration=0.05, t_end=4.0, dt=0.005,
                          outputs=None):
     """Response to a steer-torque pulse of ``torque`` [N m] for ``duration`` [s] at ``speed``
     [m/s], sampled every dt [s] to t_end [s]. outputs: state names (default: steer, roll and
-    yaw rates)."""
+    yaw rates). A singular E (massless bodies) is reduced by :func:`regular_part`."""
     joint = lin.system.model.roles.get("steer")
     if joint is None:
         raise ModelError(f"{lin.system.model.source}: no 'steer' role to apply the pulse to")
     names = tuple(outputs or (joint, "roll_rate", "yaw_rate"))
     rows = [lin.state_names.index(name) for name in names]
     E, A = lin.pencil([speed])
-    a, b = np.linalg.solve(E[0], A[0]), np.linalg.solve(E[0], joint_input(lin, joint))
+    a, b, to_x, feed = regular_part(E[0], A[0], joint_input(lin, joint))
     phi, gamma = _discretise(a, b, dt)
     steps = int(round(t_end / dt)) + 1
     pulse_steps = int(round(duration / dt))
-    x = np.zeros(a.shape[0])
+    z = np.zeros(a.shape[0])
     out = np.empty((steps, len(rows)))
     for k in range(steps):
-        out[k] = x[rows]
-        x = phi @ x + gamma * (torque if k < pulse_steps else 0.0)
+        u = torque if k < pulse_steps else 0.0
+        out[k] = to_x[rows] @ z + feed[rows] * u
+        z = phi @ z + gamma * u
     return PulseResponse(np.arange(steps) * dt, out, names, torque, pulse_steps * dt, speed)
 
 
