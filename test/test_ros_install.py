@@ -1,0 +1,56 @@
+"""colcon-style install (setup.py install --prefix): node executables under lib/motoflex_ros."""
+import ast
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _console_scripts():
+    tree = ast.parse((ROOT / "setup.py").read_text())
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Dict):
+            for key, value in zip(node.keys, node.values):
+                if isinstance(key, ast.Constant) and key.value == "console_scripts":
+                    return [ast.literal_eval(v).split("=")[0].strip() for v in value.elts]
+    raise AssertionError("no console_scripts in setup.py")
+
+
+NODES = ("sim_clock", "recorder", "bag_replay", "load_actuator", "component_simulator",
+         "displacement_sensor", "identification")
+
+
+@pytest.mark.slow
+def test_ros_install_prefix_puts_executables_in_lib_package(tmp_path):
+    src = tmp_path / "src"
+    ignore = shutil.ignore_patterns("__pycache__", "*.egg-info", "build", "*.pyc")
+    src.mkdir()
+    for name in ("setup.py", "setup.cfg", "package.xml"):
+        shutil.copy(ROOT / name, src / name)
+    for name in ("resource", "config", "motoflex_ros", "launch"):
+        if (ROOT / name).exists():
+            shutil.copytree(ROOT / name, src / name, ignore=ignore, symlinks=True)
+    prefix, record = tmp_path / "install", tmp_path / "record.txt"
+    build = subprocess.run(
+        [sys.executable, "setup.py", "egg_info", "build", "install", "--prefix", str(prefix),
+         "--single-version-externally-managed", "--record", str(record)],
+        cwd=src, capture_output=True, text=True, timeout=600)
+    assert build.returncode == 0, build.stderr[-2000:]
+    lib = prefix / "lib" / "motoflex_ros"
+    scripts = _console_scripts()
+    assert set(NODES) <= set(scripts)
+    for name in scripts:
+        assert (lib / name).is_file() and (lib / name).stat().st_mode & 0o111, name
+    assert (prefix / "share" / "motoflex_ros" / "package.xml").is_file()
+    site = next(prefix.glob("lib/python3*/site-packages"))
+    run = subprocess.run([str(lib / "sim_clock"), "--ros-args", "-p", "window:=0"],
+                         capture_output=True, text=True, timeout=120,
+                         env={"PYTHONPATH": str(site), "ROS_LOG_DIR": str(tmp_path / "log"),
+                              "ROS_DOMAIN_ID": "101", "HOME": str(tmp_path)})
+    assert run.returncode == 2, run.stderr
+    assert "parameter 'window' = 0 is not allowed" in run.stderr
+    assert (site / "motoflex_ros" / "nodes" / "sim_clock.py").is_file()
