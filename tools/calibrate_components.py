@@ -4,7 +4,7 @@
 Usage: python tools/calibrate_components.py COMPONENT PARAM [PARAM ...] [--weights W]
 PARAM is a dotted path into the YAML (e.g. sections.spar.outer_diameter,
 springs.0.k_rotation.2, rigid_parts.tank_left.mass), optionally with '@F' to bound its factor
-to [1/F, F]; a path ending in '*' scales every numeric
+to [1/F, F]; paths joined by ',' share one factor; a path ending in '*' scales every numeric
 leaf below it together (e.g. 'sections.spar.*' scales diameter and wall: a geometric scale).
 The fit minimises log-ratios of (f_torsion, f_bending, k, k_t, k_b) to the paper and penalises
 a first clamped mode that is not of the paper's type. It prints the fitted values; copying them
@@ -53,7 +53,8 @@ def _scale_all(node, factor):
 
 def apply(data, params, factors):
     out = copy.deepcopy(data)
-    for path, factor in zip(params, factors):
+    pairs = [(p, f) for group, f in zip(params, factors) for p in group.split(",")]
+    for path, factor in pairs:
         if path.endswith(".*"):
             _scale_all(_get(out, path[:-2]), factor)
         else:
@@ -116,7 +117,8 @@ def main():
                         np.zeros(len(args.params)), bounds=(-lim, lim), diff_step=1e-3)
     factors = np.exp(fit.x)
     fitted = apply(data, args.params, factors)
-    for path, f in zip(args.params, factors):
+    for group, f in zip(args.params, factors):
+        path = group.split(",")[0]
         if path.endswith(".*"):
             print(f"{path}: x{f:.4f} -> {_get(fitted, path[:-2])}")
         else:

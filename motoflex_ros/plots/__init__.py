@@ -1,1 +1,2 @@
-"""Plots (matplotlib, Agg backend), imported lazily by the CLI verbs; never by the core."""
+"""Figures (matplotlib, Agg backend). Imported lazily by the CLI verbs; the core never imports
+this package."""

@@ -5,6 +5,7 @@ load F_y at the loaded end q0. Modes are labelled from their shape at the loaded
 their order: a mode whose loaded-end motion is mainly in the x-z plane (u_x, u_z, theta_y) is
 'in_plane'; otherwise the deformation axis of eqs. (1)-(7) applied to the modal displacement
 decides: within 45 deg of the line O-q0 (beta near 0 or pi) it is 'torsion', else 'bending'.
+A mode the loaded end hardly takes part in (a part vibrating on its own mount) is 'local'.
 """
 from dataclasses import dataclass
 
@@ -17,6 +18,7 @@ __all__ = ["ReducedComponent", "StaticResult", "label_mode", "end_pose", "modal_
 
 LATERAL = (1, 3, 5)     # u_y, theta_x, theta_z at the loaded end
 PLANAR = (0, 2, 4)      # u_x, u_z, theta_y
+LOCAL_SHARE = 0.2       # loaded-end amplitude below 20 % of the largest node motion: 'local'
 
 
 def end_pose(end_motion, q0, scale=1.0):
@@ -38,13 +40,26 @@ def _small_scale(end_motion, q0, size=1e-6):
     return size * length / amp
 
 
-def label_mode(end_motion, q0):
-    """'torsion', 'bending' or 'in_plane' from a mode's loaded-end motion (6,) [m, rad].
+def _end_share(node_motion, end_dofs, reduced_motion, q0):
+    """Loaded-end amplitude max(|u|, L |theta|) over the largest node translation [-]."""
+    nodes = np.asarray(node_motion).reshape(-1, 6)
+    end = reduced_motion[end_dofs]
+    amp = max(np.linalg.norm(end[:3]), np.linalg.norm(q0) * np.linalg.norm(end[3:]))
+    return amp / max(np.max(np.linalg.norm(nodes[:, :3], axis=1)), 1e-300)
 
+
+def label_mode(end_motion, q0, end_share=1.0):
+    """'torsion', 'bending', 'in_plane' or 'local' from a mode's loaded-end motion (6,).
+
+    end_motion = (u, theta) [m, rad]. ``end_share`` is the loaded end's amplitude over the
+    largest nodal translation of the mode; below LOCAL_SHARE the mode is 'local' (a part
+    vibrating on its own, e.g. a rigid part on its mount, hardly seen at the loaded end).
     Lateral content: (u_y, L theta_x, L theta_z); planar content (u_x, u_z, L theta_y), with
     L = |q0|. Mainly planar -> 'in_plane'. Otherwise the mode's deformation axis (eqs. 1-7 on
     q = q0 + eps u, R = expm(eps [theta]x)) within 45 deg of O-q0 is 'torsion', else 'bending'.
     """
+    if end_share < LOCAL_SHARE:
+        return "local"
     m = np.asarray(end_motion, float)
     length = np.linalg.norm(q0)
     weights = np.array([1.0, 1.0, 1.0, length, length, length])
@@ -175,8 +190,10 @@ def reduce_clamped(name, cb, keep, end_dofs, q0, expand, zeta):
     k = cb.K[np.ix_(keep, keep)]
     w2, phi = sla.eigh(k, m)
     freq = np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi)
-    labels = tuple(label_mode(phi[end_dofs, j], q0) for j in range(len(freq)))
     transform = np.asarray(expand @ cb.transform[:, keep])
+    labels = tuple(label_mode(phi[end_dofs, j], q0, _end_share(transform @ phi[:, j],
+                                                                 end_dofs, phi[:, j], q0))
+                   for j in range(len(freq)))
     return ReducedComponent(name=name, M=m, K=k, C=modal_damping(m, k, zeta),
                             end_dofs=np.asarray(end_dofs), q0=np.asarray(q0, float),
                             frequencies_hz=freq, mode_labels=labels, mode_shapes=phi,

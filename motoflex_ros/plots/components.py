@@ -1,0 +1,90 @@
+"""PNG of a clamped component: undeformed structure, first torsion and first bending mode,
+each seen in the x-z plane and in 3D (deformation exaggerated)."""
+import io
+import os
+import tempfile
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+__all__ = ["plot_component", "write_png_atomic"]
+
+
+def write_png_atomic(fig, path):
+    """Save ``fig`` as PNG through a temporary file and a rename (nothing half-written)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as stream:
+            stream.write(buf.getvalue())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def _mode_shape(component, reduced, label):
+    """Node positions displaced by the first mode of this label (None if there is none)."""
+    i = reduced.first_mode(label)
+    if i is None:
+        return None, None
+    disp = reduced.node_displacements(reduced.mode_shapes[:, i])[:, :3]
+    size = np.ptp(component.node_xyz, axis=0).max()
+    scale = 0.12 * size / max(np.abs(disp).max(), 1e-300)
+    return component.node_xyz + scale * disp, reduced.frequencies_hz[i]
+
+
+def _draw(ax, component, xyz, three_d, color):
+    for n1, n2 in component.elements:
+        pts = xyz[[n1, n2]]
+        if three_d:
+            ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], color=color, lw=1.2)
+        else:
+            ax.plot(pts[:, 0], pts[:, 2], color=color, lw=1.2)
+    clamps, end = component.clamp_xyz, component.q0
+    if three_d:
+        ax.scatter(clamps[:, 0], clamps[:, 1], clamps[:, 2], color="tab:blue", s=18)
+        ax.scatter(*end, color="tab:orange", s=30)
+    else:
+        ax.scatter(clamps[:, 0], clamps[:, 2], color="tab:blue", s=18, zorder=3)
+        ax.scatter(end[0], end[2], color="tab:orange", s=30, zorder=3)
+
+
+def plot_component(component, reduced, path):
+    """Write ``path`` (PNG): columns undeformed / torsion / bending; rows x-z / 3D."""
+    fig = plt.figure(figsize=(13, 8))
+    panels = [("undeformed", component.node_xyz, None)]
+    for label in ("torsion", "bending"):
+        xyz, freq = _mode_shape(component, reduced, label)
+        panels.append((label, xyz, freq))
+    for col, (label, xyz, freq) in enumerate(panels):
+        title = label if freq is None else f"first {label} mode, {freq:.1f} Hz"
+        for row, three_d in enumerate((False, True)):
+            ax = fig.add_subplot(2, 3, 1 + col + 3 * row,
+                                 projection="3d" if three_d else None)
+            if xyz is None:
+                ax.set_title(f"no {label} mode")
+                continue
+            if label != "undeformed":
+                _draw(ax, component, component.node_xyz, three_d, "0.8")
+            _draw(ax, component, xyz, three_d, "k" if label == "undeformed" else "tab:red")
+            ax.set_title(title + (" (3D)" if three_d else " (x-z)"), fontsize=9)
+            ax.set_xlabel("x [m]")
+            if three_d:
+                ax.set_ylabel("y [m]")
+                ax.set_zlabel("z [m]")
+            else:
+                ax.set_ylabel("z [m]")
+                ax.set_aspect("equal", adjustable="datalim")
+    fig.suptitle(f"{component.name}: clamped (blue), loaded end q0 (orange)")
+    fig.tight_layout()
+    write_png_atomic(fig, path)
+    plt.close(fig)
