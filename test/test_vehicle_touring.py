@@ -79,3 +79,16 @@ def test_trends_published(sweep):
     assert 8.0 < wobble_f.min() and wobble_f.max() < 10.0, "wobble 8-10 Hz, little speed effect"
     weave_re = sweep.real_part("weave")
     assert weave_re[-1] > weave_re[KMH == 100.0][0], "weave less damped at high speed"
+
+
+def test_mode_shapes_are_eigenvectors_roundtrip(lin, sweep):
+    """The reported shapes satisfy E(v) lambda phi = A(v) phi; wobble is steer-dominated."""
+    k = int(np.argmin(np.abs(KMH - 150.0)))
+    E, A = lin.pencil([KMH[k] / 3.6])
+    steer = lin.state_names.index("steer_rate")
+    for name in ("weave", "wobble", "capsize"):
+        lam, phi = sweep.modes[name][k], sweep.mode_shapes[name][k]
+        np.testing.assert_allclose(lam * E[0] @ phi, A[0] @ phi, atol=1e-8 * np.abs(A).max())
+    rates = [i for i, n in enumerate(lin.state_names) if n.endswith("_rate")]
+    wobble = np.abs(sweep.mode_shapes["wobble"][k][rates])
+    assert np.argmax(wobble) == rates.index(steer)

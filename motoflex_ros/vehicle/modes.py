@@ -35,12 +35,16 @@ class ModalSweep:
 
     speeds [m/s] (s,), eigenvalues: tuple of 1-D complex arrays [1/s], one per speed (all
     finite eigenvalues); modes: name -> complex array (s,) with nan where the mode is not found
-    (oscillatory modes reported with positive imaginary part).
+    (oscillatory modes reported with positive imaginary part); mode_shapes: name -> complex
+    array (s, n) of right eigenvectors over ``state_names``, scaled so that their largest
+    entry is 1 (nan where the mode is not found), e.g. to animate weave and wobble.
     """
 
     speeds: np.ndarray
     eigenvalues: tuple
     modes: dict
+    mode_shapes: dict = None
+    state_names: tuple = ()
 
     def frequency_hz(self, name):
         """Damped frequency Im(lambda)/(2 pi) [Hz] of a tracked mode over speed."""
@@ -167,13 +171,20 @@ def modal_sweep(lin, speeds):
     ref_shares = {g: s[ref] for g, s in _shares(vectors, order, weights, groups).items()}
     picks = _pick_reference(values[ref], ref_shares)
     at = np.searchsorted(grid, speeds)
-    modes = {}
+    modes, mode_shapes = {}, {}
     for name in MODE_NAMES:
         tracked = np.full(len(grid), np.nan + 1j * np.nan)
+        vecs = np.full((len(grid), values.shape[1]), np.nan + 1j * np.nan)
         if name in picks:
             for step in (-1, 1):
                 for k, j in _follow(values, shapes, ref, picks[name], step).items():
                     tracked[k] = values[k, j]
-        modes[name] = tracked[at]
+                    vecs[k] = _scaled(vectors[k, :, j])
+        modes[name], mode_shapes[name] = tracked[at], vecs[at]
     finite = [v[np.isfinite(v)] for v in values[at]]
-    return ModalSweep(speeds, tuple(finite), modes)
+    return ModalSweep(speeds, tuple(finite), modes, mode_shapes, tuple(lin.state_names))
+
+
+def _scaled(vector):
+    """Eigenvector divided by its largest-magnitude entry (that entry becomes 1)."""
+    return vector / vector[np.argmax(np.abs(vector))]
