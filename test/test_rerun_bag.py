@@ -12,12 +12,14 @@ import numpy as np
 import pytest
 
 from motoflex_ros.record.mcap_bag import BagWriter
+from motoflex_ros.record.rerun_motorcycle import MODE_CYCLES, MODE_FRAMES_PER_CYCLE
 from motoflex_ros.record.rerun_readback import entity_rows, scalar_values, verify_text
 from motoflex_ros.structures import load_component
 
 N_LOAD = 120
 N_BODY = 50
 N_SPEEDS = 18          # 40..210 km/h in steps of 10
+MODE_FRAMES = MODE_FRAMES_PER_CYCLE * MODE_CYCLES
 RATE_HZ = 100.0
 
 
@@ -184,9 +186,13 @@ def test_rerun_bag_roundtrip_entity_counts(converted):
         "/vehicle/eigenvalues/wobble/frequency_hz": N_SPEEDS,
         "/vehicle/eigenvalues/all/real_part": N_SPEEDS,
         "/identification/frame/decomposition/k_t": 1,
+        "/vehicle/modes/weave/frame": MODE_FRAMES,
+        "/vehicle/modes/weave/front_wheel": MODE_FRAMES,
+        "/vehicle/modes/wobble/upper_fork": MODE_FRAMES,
     }
     for path, count in expected.items():
         assert rows.get(path, 0) == count, (path, rows.get(path))
+    assert "/vehicle/road_test/frame" not in rows     # the bag's road test, not the model's
     static = entity_rows(bag / "run1.rrd", static=True)
     for path in ("/bench/frame", "/bench/frame/structure/undeformed",
                  "/bench/frame/structure/clamps", "/bench/frame/structure/load_point",
@@ -218,3 +224,29 @@ def test_rerun_not_a_bag_is_a_clear_error(tmp_path):
     assert result.returncode == 2
     assert "not a bag" in result.stderr
     assert "Traceback" not in result.stderr
+
+
+def test_rerun_motorcycle_ellipsoid_analytic():
+    from motoflex_ros.record.rerun_motorcycle import ellipsoid_half_sizes
+    # uniform solid ellipsoid, semi-axes a, b, c: I_x = m (b^2 + c^2) / 5, ...
+    m, a, b, c = 12.0, 0.3, 0.2, 0.1
+    moments = [m * (b**2 + c**2) / 5, m * (a**2 + c**2) / 5, m * (a**2 + b**2) / 5]
+    np.testing.assert_allclose(ellipsoid_half_sizes(m, moments), [a, b, c], rtol=1e-12)
+
+
+def test_rerun_road_test_without_bag_bodies(tmp_path):
+    """No /vehicle/bodies in the bag: the steer-pulse road test comes from the engine."""
+    from motoflex_ros.config import resolve_config
+    from motoflex_ros.record.rerun_log import RunRecording
+    from motoflex_ros.record.rerun_motorcycle import log_motorcycle
+    from motoflex_ros.vehicle.model import load_vehicle
+    model = load_vehicle(resolve_config("vehicles", "touring"))
+    with RunRecording(tmp_path / "m.rrd", "m") as run:
+        samples = log_motorcycle(run.stream, model)
+    rows = entity_rows(tmp_path / "m.rrd")
+    assert samples > 100
+    for body in ("frame", "upper_fork", "front_wheel", "rear_wheel"):
+        assert rows[f"/vehicle/road_test/{body}"] == samples
+        assert rows[f"/vehicle/modes/wobble/{body}"] == MODE_FRAMES
+    assert rows["/vehicle/road_test/joints/steer"] == samples
+    assert "1 file verified without error." in verify_text(tmp_path / "m.rrd")

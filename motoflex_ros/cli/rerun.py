@@ -13,11 +13,18 @@ def register(subparsers):
     parser.add_argument("bag", type=Path, help="run folder bags/<run> (metadata.yaml + .mcap)")
     parser.add_argument("--out", type=Path, default=None,
                         help="output .rrd (default: <bag>/<run>.rrd)")
+    parser.add_argument("--vehicle", default="touring",
+                        help="shipped vehicle drawn with its modes and road test, or 'none' "
+                             "(default: touring; its lumped 'static' variant when the run "
+                             "folder holds identification results)")
     parser.set_defaults(func=run)
 
 
 def run(args):
     from motoflex_ros.record.rerun_bag import convert_bag
-    path, topics = convert_bag(args.bag, args.out)
-    print(f"wrote {path} ({len(topics)} topics converted)")
+    vehicle = None if args.vehicle == "none" else args.vehicle
+    path, converted = convert_bag(args.bag, args.out, vehicle)
+    print(f"wrote {path}")
+    for item in converted:
+        print(f"  {item}")
     return 0

@@ -256,42 +256,70 @@ def _log_run_files(rec, folder, identify, end_time_s, log_values):
     return done
 
 
-def convert_bag(bag_dir, rrd_path=None):
-    """Write the rerun recording of a recorded run; returns (rrd path, topics converted).
+def _log_vehicle_model(rec, vehicle, identify, road_test):
+    from motoflex_ros.record.rerun_motorcycle import log_motorcycle, vehicle_model
+    model, description = vehicle_model(vehicle, identify)
+    log_motorcycle(rec, model, road_test=road_test)
+    rec.log("/vehicle/model", rr.TextDocument(f"Motorcycle: {description}."), static=True)
+    return [f"vehicle model: {description}"]
 
-    Raises :class:`~.mcap_bag.BagError` when ``bag_dir`` is not a readable bag.
+
+def _bench_topics(grouped):
+    """{component: {what: samples}} of the /bench/<c>/... topics."""
+    bench = defaultdict(dict)
+    for topic, samples in grouped.items():
+        match = BENCH_TOPIC.match(topic)
+        if match:
+            bench[match["component"]][match["what"]] = samples
+    return bench
+
+
+def _log_bench_topics(rec, bench, t0):
+    converted = []
+    for component, topics in sorted(bench.items()):
+        if "load" in topics:
+            _log_bench_load(rec, component, topics["load"], topics.get("pose"), t0,
+                            _model(component))
+        for kind in ("true", "measured"):
+            if f"markers/{kind}" in topics:
+                _log_markers(rec, component, kind, topics[f"markers/{kind}"], t0)
+        converted += [f"/bench/{component}/{what}" for what in topics]
+    return converted
+
+
+def _log_vehicle_topics(rec, grouped, info, t0):
+    _log_vehicle(rec, grouped, t0)
+    marker_topics = [t.name for t in info.topics if t.type == "visualization_msgs/msg/Marker"]
+    for topic in marker_topics:
+        _log_markers_msgs(rec, grouped[topic])
+    return [t for t in ("/vehicle/joint_states", "/vehicle/bodies") if t in grouped] + \
+        marker_topics
+
+
+def convert_bag(bag_dir, rrd_path=None, vehicle="touring"):
+    """Write the rerun recording of a recorded run; returns (rrd path, what was converted).
+
+    ``vehicle`` (a shipped vehicle name, or None to skip) adds the motorcycle from the vehicle
+    engine: bodies, joint axes, weave and wobble animated, and the steer-pulse road test when
+    the bag has none. Raises :class:`~.mcap_bag.BagError` when ``bag_dir`` is not a bag.
     """
     bag_dir = Path(bag_dir)
     info = bag_info(bag_dir)
     grouped = _collect(bag_dir)
     t0 = min((s[0][0] for s in grouped.values() if s), default=0)
-    bench = defaultdict(dict)
-    for topic in grouped:
-        match = BENCH_TOPIC.match(topic)
-        if match:
-            bench[match["component"]][match["what"]] = grouped[topic]
-    converted = []
+    bench = _bench_topics(grouped)
     identify = _read_json(bag_dir, "identification.json", "identify.json")
     with rl.RunRecording(rrd_path or rrd_path_of(bag_dir), bag_dir.name,
                          default_blueprint(sorted(bench))) as run:
-        for component, topics in sorted(bench.items()):
-            if "load" in topics:
-                _log_bench_load(run.stream, component, topics["load"], topics.get("pose"), t0,
-                                _model(component))
-            for kind in ("true", "measured"):
-                if f"markers/{kind}" in topics:
-                    _log_markers(run.stream, component, kind, topics[f"markers/{kind}"], t0)
-            converted += [f"/bench/{component}/{what}" for what in topics]
+        converted = _log_bench_topics(run.stream, bench, t0)
         if "/identification/results" in grouped:
             _log_identification(run.stream, grouped["/identification/results"], t0, set(bench),
                                 draw_axes=identify is None)
             converted.append("/identification/results")
-        _log_vehicle(run.stream, grouped, t0)
-        converted += [t for t in ("/vehicle/joint_states", "/vehicle/bodies") if t in grouped]
-        marker_topics = [t.name for t in info.topics if t.type == "visualization_msgs/msg/Marker"]
-        for topic in marker_topics:
-            _log_markers_msgs(run.stream, grouped[topic])
-        converted += marker_topics
+        converted += _log_vehicle_topics(run.stream, grouped, info, t0)
         converted += _log_run_files(run.stream, bag_dir, identify, info.duration_ns * 1e-9,
                                     log_values="/identification/results" not in grouped)
+        if vehicle:
+            converted += _log_vehicle_model(run.stream, vehicle, identify,
+                                            road_test="/vehicle/bodies" not in grouped)
     return run.path, sorted(converted)
