@@ -12,7 +12,7 @@ import time
 from motoflex_ros.nodes.conversions import clock_ns_from_cdr, seconds_to_ns
 from motoflex_ros.nodes.pacing import AckGate, ReadyWatch
 from motoflex_ros.nodes.params import Param, ParameterError
-from motoflex_ros.nodes.runtime import RigNode, message_class, run_node
+from motoflex_ros.nodes.runtime import RigNode, message_class, publish_patiently, run_node
 from motoflex_ros.record.mcap_bag import bag_info, read_messages
 
 __all__ = ["BagReplay", "main"]
@@ -82,7 +82,7 @@ class BagReplay(RigNode):
                 self.last_clock_ns = t_ns
             if self._sleep_for_rate(msg.log_time_ns):
                 return True
-            self.pubs[msg.topic].publish(msg.data)
+            publish_patiently(self.pubs[msg.topic], msg.data, self.params["stall_timeout"])
             self.published += 1
             self.pending = None
 

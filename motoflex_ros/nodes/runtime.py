@@ -17,6 +17,7 @@ import importlib
 import os
 import signal
 import sys
+import time
 
 import rclpy
 from diagnostic_msgs.msg import KeyValue
@@ -30,7 +31,8 @@ from std_msgs.msg import String
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.params import declare_parameters
 
-__all__ = ["RigNode", "FastSpinner", "run_node", "message_class", "reliable_qos",
+__all__ = ["RigNode", "FastSpinner", "run_node", "publish_patiently", "message_class",
+           "reliable_qos",
            "latched_qos", "READY_TOPIC", "ACK_TOPIC"]
 
 READY_TOPIC = "/rig/ready"
@@ -139,6 +141,25 @@ class RigNode(Node):
         """Called once when the loop ends (``reason``: 'finished', 'SIGINT', 'SIGTERM')."""
         if self.gaps:
             self.get_logger().error(f"{self.gaps} message(s) lost in total")
+
+
+def publish_patiently(publisher, msg, timeout_s=30.0):
+    """Publish, retrying while a reliable keep-all reader is full ("cannot publish data":
+    Fast DDS gives up after its blocking time); raises after ``timeout_s`` [s] of refusals.
+    """
+    deadline = None
+    while True:
+        try:
+            publisher.publish(msg)
+            return
+        except rclpy_implementation.RCLError as exc:
+            if "cannot publish data" not in str(exc):
+                raise
+            deadline = deadline or time.monotonic() + timeout_s
+            if time.monotonic() > deadline:
+                raise MotoflexError(f"{publisher.topic_name}: readers refuse data for "
+                                    f"{timeout_s:g} s ({exc})") from exc
+            time.sleep(0.001)
 
 
 class FastSpinner:
