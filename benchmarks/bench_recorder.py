@@ -6,8 +6,8 @@
    reliable keep-all) on 4 topics to the recorder node (a separate process); the rate is the
    recorded count over the span of receive times in the bag, and per CPU-second of the
    recorder process (independent of how busy the shared machine is). Baseline in the same
-   run: the bag writer alone (record.mcap_bag, no ROS) writing the same messages; the ratio shows what the
-   middleware costs. Target: >= 20,000 messages/s.
+   run: the bag writer alone (record.mcap_bag, no ROS) writing the same messages; the ratio
+   shows what the middleware costs. Target: >= 20,000 messages/s.
 2. --campaign: ``motoflex campaign`` (all components, through the graph) wall time against the
    offline ``identify_components`` of the same components in this process. Target: <= 30 s.
 """
