@@ -77,3 +77,23 @@ def test_free_decay_matches_eigenvalues(exact_campaign):
         assert pole is not None, label
         assert pole.omega_n == pytest.approx(mode.omega_n, rel=1e-6)
         assert pole.zeta == pytest.approx(mode.zeta, rel=1e-4)
+
+
+def frequency_domain_split(setup):
+    """k, k_t, k_b from the exact static response and the steady harmonic peaks (eqs 8, 12)."""
+    from motoflex_ros.identify.decomposition import decompose_stiffness
+    static = setup.reduced.static_lateral(setup.protocol.static.force_n)
+    t = steady_axis(setup, setup.modes.first("torsion").f_hz)
+    b = steady_axis(setup, setup.modes.first("bending").f_hz)
+    split = decompose_stiffness(static.k, static.axis.beta, static.axis.b, t.beta, t.b,
+                                b.beta, b.b)
+    return static.k, split.k_t, split.k_b
+
+
+def test_stiffness_split_matches_frequency_domain(exact_campaign):
+    setup, run = exact_campaign
+    k, k_t, k_b = frequency_domain_split(setup)
+    result = run.identification
+    assert result.static["k"] == pytest.approx(k, rel=1e-4)
+    assert result.split["k_t"] == pytest.approx(k_t, rel=0.01)
+    assert result.split["k_b"] == pytest.approx(k_b, rel=0.01)

@@ -26,13 +26,14 @@ __all__ = ["CampaignSetup", "CampaignRun", "setup_campaign", "make_stages", "run
 
 @dataclass(frozen=True)
 class CampaignSetup:
-    """A component's reduced model, its modes and the planned protocol."""
+    """A component's reduced model, its modes, the planned protocol and the Component."""
 
     name: str
     reduced: object
     modes: object
     protocol: object
     plan: object
+    component: object = None
 
 
 @dataclass(frozen=True)
@@ -60,7 +61,7 @@ def setup_campaign(component, protocol=None, noise_m=None):
         protocol = replace(protocol, sensor=replace(protocol.sensor, noise_m=float(noise_m)))
     modes = clamped_modes(reduced)
     return CampaignSetup(comp.name, reduced, modes, protocol,
-                         plan_campaign(protocol, reduced, modes))
+                         plan_campaign(protocol, reduced, modes), comp)
 
 
 def with_sensor(setup, **changes):

@@ -1,0 +1,32 @@
+"""Figs. 5-7 plot: the axes drawn are the identified ones (segment geometry round trip)."""
+import numpy as np
+import pytest
+
+from motoflex_ros.bench.campaign import run_campaign, setup_campaign, with_sensor
+from motoflex_ros.identify.axis import deformation_axis
+from motoflex_ros.identify.peaks import unwrap_angle
+
+
+def test_axis_segment_roundtrip():
+    """A segment drawn for (l, beta) lies on the axis that eqs. (3)-(6) identify."""
+    from motoflex_ros.plots.axes import axis_segment
+    q0 = np.array([-0.6, 0.0, -0.045])
+    for l, beta in [(0.23, 1.54), (-2.9, 2.87), (0.4, 0.05)]:
+        p, r = axis_segment(l, beta, q0, 0.7)
+        direction = (r - p) / np.linalg.norm(r - p)
+        n = np.array([-direction[1], 0.0, direction[0]])  # normal of the axis in x-z
+        tilt = 1e-6
+        normal = np.array([tilt * n[0], 1.0, tilt * n[2]])
+        rot = np.column_stack([np.cross(normal, [0, 0, 1]), normal, [0, 0, 1]])
+        q = q0 + np.array([0.0, -tilt * np.dot(n, q0 - np.r_[p[0], 0.0, p[1]]), 0.0])
+        axis = deformation_axis(q, rot, q0)
+        assert axis.l == pytest.approx(l, abs=1e-6 * max(1.0, abs(l)))
+        assert unwrap_angle(axis.beta, beta) == pytest.approx(beta, abs=1e-9)
+
+
+def test_plot_component_axes_writes_png(tmp_path):
+    from motoflex_ros.plots.axes import plot_component_axes
+    setup = with_sensor(setup_campaign("swingarm"), noise_m=0.0, resolution_m=0.0)
+    result = run_campaign(setup).identification
+    path = plot_component_axes(setup, result, tmp_path / "swingarm_axes.png")
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
