@@ -11,8 +11,9 @@ with massless bodies) is found by Newton's method on the bordered system
 
 with c the previous speed's (unit) eigenvector, which fixes scale and phase and keeps the
 iteration on the same branch. The start of each step is a polynomial extrapolation (up to
-quadratic, in speed) of the last three eigenpairs, so that one Newton step usually meets the
-tolerance. All runs and modes of one speed are solved in one batched call (np.linalg.solve);
+quartic, in speed) of the last five eigenpairs, so that one Newton step usually meets the
+tolerance; a member that does not converge from there starts again from the previous
+eigenpair. All runs and modes of one speed are solved in one batched call (np.linalg.solve);
 each (run, mode) stops iterating on its own residual, so a run's result does not depend on
 which other runs share its batch.
 
@@ -33,6 +34,9 @@ import scipy.linalg
 from motoflex_ros.errors import ModelError
 
 __all__ = ["ContinuationResult", "continue_eigenpairs", "nearest_eigenpairs", "mac"]
+
+_HISTORY = 5
+"""Eigenpairs kept for the predictor: a quartic extrapolation in speed."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -178,8 +182,11 @@ def _newton_step(pencil, lam, x, c, r, ex):
     if e is None:
         jac[:, :n, :n] = a
         jac.reshape(b, -1)[:, 0:n * (n + 2):n + 2] -= lam[:, None]  # diagonal of the A block
-    else:
-        jac[:, :n, :n] = a - lam[:, None, None] * e
+    else:  # A - lambda E, real and imaginary parts written in place (no complex temporaries)
+        block = jac[:, :n, :n]
+        np.multiply(e, -lam.real[:, None, None], out=block.real)
+        block.real += a
+        np.multiply(e, -lam.imag[:, None, None], out=block.imag)
     jac[:, :n, n] = -ex
     jac[:, n, :n] = np.conj(c)
     jac[:, n, n] = 0.0
@@ -259,15 +266,32 @@ def continue_eigenpairs(matrices, eigenvalues0, eigenvectors0, speeds=None, n_sp
     out.store(0, lam, x, iters, res, np.ones_like(res))
     history = [(grid[0], lam.copy(), x.copy())]
     for j in range(1, n_speeds):
-        e, a = _per_mode(get(j), modes)
-        lam_p, x_p = _extrapolate(history, grid[j])
+        lam, x, iters, res = _step(_per_mode(get(j), modes), history, grid[j], tol, max_iter)
         c = history[-1][2]
-        x_p = x_p / np.sum(np.conj(c) * x_p, axis=1, keepdims=True)
-        lam, x, iters, res = _correct(e, a, lam_p, x_p, c, tol, max_iter)
-        x /= np.linalg.norm(x, axis=1, keepdims=True)
         out.store(j, lam, x, iters, res, mac(c[..., None], x[..., None])[:, 0])
-        history = (history + [(grid[j], lam.copy(), x.copy())])[-3:]
+        history = (history + [(grid[j], lam.copy(), x.copy())])[-_HISTORY:]
     return out.result(tol)
+
+
+def _step(pencil, history, speed, tol, max_iter):
+    """Eigenpairs at the next speed: Newton from the extrapolated pairs; members that do not
+    converge start again from the previous pairs (a safer, if slower, start)."""
+    e, a = pencil
+    c = history[-1][2]
+    lam_p, x_p = _extrapolate(history, speed)
+    x_p = x_p / np.sum(np.conj(c) * x_p, axis=1, keepdims=True)
+    lam, x, iters, res = _correct(e, a, lam_p, x_p, c, tol, max_iter)
+    failed = np.flatnonzero(res > tol)
+    if failed.size and len(history) > 1:
+        sub = (None if e is None else e[failed], a[failed])
+        retry = _correct(*sub, history[-1][1][failed].copy(), c[failed].copy(), c[failed],
+                         tol, max_iter)
+        better = retry[3] < res[failed]
+        keep = failed[better]
+        lam[keep], x[keep], res[keep] = retry[0][better], retry[1][better], retry[3][better]
+        iters[failed] += retry[2]
+    x /= np.linalg.norm(x, axis=1, keepdims=True)
+    return lam, x, iters, res
 
 
 def _per_mode(pencil, modes):
