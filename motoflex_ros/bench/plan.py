@@ -15,8 +15,10 @@ from motoflex_ros.bench.protocols import MATCH_STATIC
 from motoflex_ros.bench.response import harmonic_peak_motion
 from motoflex_ros.errors import ProtocolError
 
+MAX_ROTATION_RAD = 0.05  # [rad] largest end rotation of a test: small, linear deformation
+
 __all__ = ["TestPlan", "CampaignPlan", "plan_campaign", "sweep_frequencies", "onset_times",
-           "matched_amplitude"]
+           "matched_amplitude", "check_linear", "MAX_ROTATION_RAD"]
 
 
 @dataclass(frozen=True)
@@ -147,8 +149,27 @@ def matched_amplitude(reduced, frequency, static_force):
     return _deformation_size(static, length) / _deformation_size(dynamic, length)
 
 
+def check_linear(plan, reduced):
+    """ProtocolError when a test's peak end rotation exceeds MAX_ROTATION_RAD (not small)."""
+    load = np.zeros(reduced.K.shape[0])
+    load[reduced.end_dofs[1]] = plan.amplitude_n
+    if plan.kind in ("static", "decay"):
+        motion = np.linalg.solve(reduced.K, load)[reduced.end_dofs]
+    else:
+        motion = harmonic_peak_motion(reduced, plan.frequency_hz, plan.amplitude_n)
+    rotation = float(np.linalg.norm(motion[3:]))
+    if rotation > MAX_ROTATION_RAD:
+        raise ProtocolError(
+            f"test '{plan.name}': the load {plan.amplitude_n:.4g} N turns the loaded end by "
+            f"{rotation:.3g} rad (> {MAX_ROTATION_RAD} rad); the deformation would not stay "
+            f"small and linear, lower the load")
+
+
 def plan_campaign(protocol, reduced, modes=None):
-    """CampaignPlan of ``protocol`` for a ReducedComponent (its ModeSet computed if None)."""
+    """CampaignPlan of ``protocol`` for a ReducedComponent (its ModeSet computed if None).
+
+    Each test is also checked to stay linear: :func:`check_linear`.
+    """
     modes = modes if modes is not None else clamped_modes(reduced)
     tests = [_static(protocol, modes)]
     for t in protocol.harmonic_tests:
@@ -163,4 +184,6 @@ def plan_campaign(protocol, reduced, modes=None):
                                    protocol, modes))
     if protocol.modal is not None:
         tests.append(_decay(protocol, modes))
+    for plan in tests:
+        check_linear(plan, reduced)
     return CampaignPlan(tuple(tests), protocol, modes)

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from motoflex_ros.errors import ProtocolError
 from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.decay import match_pole
 from motoflex_ros.identify.decomposition import decompose_stiffness
@@ -151,6 +152,15 @@ def _modal(modes, decay):
 
 def identify_component(name, readings, modes, q0):
     """ComponentIdentification from the readings of a campaign (by test name) and the modes."""
+    missing = [t for t in ("static", "torsion", "bending") if t not in readings]
+    if missing:
+        raise ProtocolError(f"{name}: the campaign has no {', '.join(missing)} test; eqs. "
+                            f"(8)-(12) need the static test and harmonic tests named 'torsion' "
+                            f"and 'bending'")
+    empty = [t for t in ("torsion", "bending") if readings[t].n_peaks < 2]
+    if empty:
+        raise ProtocolError(f"{name}: fewer than 2 peaks read in {', '.join(empty)}; "
+                            f"raise harmonic.max_periods")
     static, static_cov = static_model(readings["static"], q0)
     models = {}
     for label in ("torsion", "bending"):
@@ -159,6 +169,8 @@ def identify_component(name, readings, modes, q0):
                    models["bending"][0].values, models["bending"][1])
     sweep, others = [], {}
     for test, r in readings.items():
+        if getattr(r, "n_peaks", 1) == 0:
+            continue
         if getattr(r, "kind", None) == "sweep":
             values, _, ci, info = _harmonic_axis(r)
             sweep.append(AxisModel({"f_hz": float(r.frequency_hz), **values}, ci, info))
