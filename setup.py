@@ -66,6 +66,7 @@ setup(
             "component_simulator = motoflex_ros.nodes.component_simulator:main",
             "displacement_sensor = motoflex_ros.nodes.displacement_sensor:main",
             "identification = motoflex_ros.nodes.identification:main",
+            "vehicle_simulator = motoflex_ros.nodes.vehicle_simulator:main",
         ],
     },
 )

@@ -44,6 +44,9 @@ def run(args):
         return 0
     info = bag_info(outcome.bag)
     _table(outcome.results)
+    if outcome.vehicle:
+        print("\nlumped 'static' motorcycle of the identified values:")
+        _vehicle_table(outcome.vehicle)
     print(f"\nbag: {outcome.bag} ({info.message_count} messages, {len(info.topics)} topics); "
           f"results: {outcome.result_file}; wall time {outcome.wall_s:.1f} s "
           f"(ROS_DOMAIN_ID {outcome.domain_id})")
@@ -63,3 +66,18 @@ def _table(results):
             rows.append([name, key, f"{value:.4g}", f"{target:.4g}" if target else "", dev])
     print_table(["component", "stiffness", "identified [N m/rad]", "paper Table 2", "deviation"],
                 rows)
+
+
+def _vehicle_table(modes, speeds_kmh=(60.0, 100.0, 150.0, 200.0)):
+    rows = []
+    for name in ("weave", "wobble"):
+        mode = modes.get(name)
+        if not mode:
+            continue
+        for v in speeds_kmh:
+            k = min(range(len(mode["speeds_kmh"])), key=lambda i: abs(mode["speeds_kmh"][i] - v))
+            freq, real = mode["frequency_hz"][k], mode["real"][k]
+            rows.append([name, f"{mode['speeds_kmh'][k]:.0f}",
+                         "-" if freq is None else f"{freq:.3f}",
+                         "-" if real is None else f"{real:.3f}"])
+    print_table(["mode", "speed [km/h]", "frequency [Hz]", "real part [1/s]"], rows)

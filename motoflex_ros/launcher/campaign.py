@@ -1,8 +1,10 @@
 """The bench campaign as a ROS 2 graph: which nodes, with which parameters, and its outcome.
 
-Nodes: load_actuator (paces), component_simulator, displacement_sensor, identification and the
-recorder, each a separate process on a private ROS domain. The identification node writes the
-same result file as ``motoflex identify --out``; the recorder writes the rosbag2 bag.
+Nodes: load_actuator (paces), component_simulator, displacement_sensor, identification, the
+recorder and, when all three motorcycle components are in, the vehicle_simulator (the lumped
+'static' motorcycle of the identified values), each a separate process on a private domain.
+The identification node writes the same result file as ``motoflex identify --out``; the
+recorder writes the rosbag2 bag.
 """
 import json
 import tempfile
@@ -22,19 +24,32 @@ BENCH_LEAVES = ("load", "phase", "markers/true", "markers/measured", "pose")
 
 @dataclass(frozen=True)
 class CampaignOutcome:
-    """Results {component: identify-format dict}, the bag, the run's wall time [s]."""
+    """Results {component: identify-format dict}, the bag, the run's wall time [s], and the
+    vehicle's modes {weave|wobble|capsize: {speeds_kmh, real, frequency_hz}} (or {})."""
 
     results: dict
     bag: Path
     result_file: Path
     wall_s: float
     domain_id: int
+    vehicle: dict
+
+
+VEHICLE_TOPICS = ("/vehicle/eigenvalues", "/vehicle/joint_states", "/vehicle/bodies",
+                  "/vehicle/joint_axes")
+VEHICLE_COMPONENTS = ("frame", "front_assembly", "swingarm")
+
+
+def with_vehicle(components):
+    """Does the campaign include the vehicle (all three motorcycle components)?"""
+    return set(VEHICLE_COMPONENTS) <= set(components)
 
 
 def campaign_topics(components):
     """Every topic the campaign records."""
+    vehicle = list(VEHICLE_TOPICS) if with_vehicle(components) else []
     return ["/clock", "/identification/results"] + [
-        f"/bench/{c}/{leaf}" for c in components for leaf in BENCH_LEAVES]
+        f"/bench/{c}/{leaf}" for c in components for leaf in BENCH_LEAVES] + vehicle
 
 
 def campaign_specs(components, bag, noise=None, seed=0, protocol=None):
@@ -42,7 +57,9 @@ def campaign_specs(components, bag, noise=None, seed=0, protocol=None):
     bench = {"components": list(components), "seed": int(seed),
              "noise": -1.0 if noise is None else float(noise), "protocol": protocol or ""}
     workers = ["component_simulator", "displacement_sensor", "identification", "recorder"]
-    return [
+    vehicle = ([NodeSpec("vehicle_simulator", {"components": list(VEHICLE_COMPONENTS)})]
+               if with_vehicle(components) else [])
+    return vehicle + [
         NodeSpec("load_actuator", {**bench, "wait_for": workers}),
         NodeSpec("component_simulator", dict(bench)),
         NodeSpec("displacement_sensor", dict(bench)),
@@ -63,6 +80,11 @@ def planned_duration(components, noise=None, protocol=None):
     return longest
 
 
+def _diagnostic_array():
+    from diagnostic_msgs.msg import DiagnosticArray
+    return DiagnosticArray
+
+
 def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progress=False,
                        work_dir=None):
     """Run the campaign through the graph; returns a :class:`CampaignOutcome`."""
@@ -70,8 +92,14 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
     specs = campaign_specs(components, bag, noise, seed, protocol)
     start = time.monotonic()
     work_dir = work_dir or tempfile.mkdtemp(prefix="motoflex_campaign_")
+    finishers = ["vehicle_simulator"] if with_vehicle(components) else []
     run = run_graph(specs, "load_actuator", planned_duration(components, noise, protocol),
-                    work_dir=work_dir, progress=progress)
+                    work_dir=work_dir, progress=progress, finishers=finishers,
+                    collect=[("/vehicle/eigenvalues", _diagnostic_array())])
     result_file = bag / RESULT_FILE
     results = json.loads(result_file.read_text())
-    return CampaignOutcome(results, bag, result_file, time.monotonic() - start, run.domain_id)
+    eig = run.collected["/vehicle/eigenvalues"]
+    vehicle = {s.name.split("/")[1]: {kv.key: json.loads(kv.value) for kv in s.values}
+               for s in eig[-1].status} if eig else {}
+    return CampaignOutcome(results, bag, result_file, time.monotonic() - start, run.domain_id,
+                           vehicle)

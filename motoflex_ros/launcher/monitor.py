@@ -7,7 +7,7 @@ from std_msgs.msg import String
 
 from motoflex_ros.launcher.graph import NodeDied
 from motoflex_ros.nodes.conversions import time_ns
-from motoflex_ros.nodes.runtime import READY_TOPIC, FastSpinner, latched_qos, reliable_qos
+from motoflex_ros.nodes.runtime import READY_TOPIC, FastSpinner, latched_qos
 
 __all__ = ["Monitor"]
 
@@ -26,7 +26,7 @@ class Monitor(Node):
         self.create_subscription(Clock, "/clock", self._on_clock, 1)  # progress only
         for topic, msg_type in collect:
             self.create_subscription(msg_type, topic, self.collected[topic].append,
-                                     reliable_qos())
+                                     latched_qos())
         self.spinner = FastSpinner(self)
         self.check_sequence = lambda sub, info: None
 
@@ -56,19 +56,38 @@ class Monitor(Node):
                 if code is not None:
                     if code != 0:
                         raise pacer_failed(graph, pacer, code)
+                    if bar is not None:
+                        bar.total = bar.n  # tests settle before their planned maximum
                     return
                 graph.check_alive(allowed=(pacer,))
         finally:
             if bar is not None:
                 bar.close()
 
-    def drain(self, graph, pacer, timeout):
-        """Handle what is still in flight after the pacer ended (short quiet period)."""
+    def wait_finishers(self, graph, done, timeout):
+        """Wait until every node in ``done`` exited 0 (the pacer first, then the finishers)."""
+        from motoflex_ros.launcher.run import pacer_failed
+        deadline = time.monotonic() + timeout
+        while True:
+            exited = graph.exited()
+            for name in done:
+                if exited.get(name) not in (None, 0):
+                    raise pacer_failed(graph, name, exited[name])
+            if all(name in exited for name in done):
+                return
+            if time.monotonic() > deadline:
+                late = ", ".join(n for n in done if n not in exited)
+                raise NodeDied(f"nodes not finished after {timeout:g} s: {late}")
+            graph.check_alive(allowed=done)
+            self.spinner.spin_once(0.1)
+
+    def drain(self, graph, done, timeout):
+        """Handle what is still in flight after the run ended (short quiet period)."""
         deadline = time.monotonic() + timeout
         quiet = 0
         while quiet < 3 and time.monotonic() < deadline:
             quiet = quiet + 1 if self.spinner.spin_once(0.1) == 0 else 0
-            graph.check_alive(allowed=(pacer,))
+            graph.check_alive(allowed=done)
 
 
 def _progress_bar(duration_s):

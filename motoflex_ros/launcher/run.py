@@ -41,10 +41,9 @@ def _raise_on_sigterm(signum, frame):
 
 
 def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=False,
-              ready_timeout=60.0, drain_timeout=30.0):
-    """Run ``specs`` until ``pacer`` exits 0; returns a :class:`RunResult`.
-
-    ``collect``: (topic, msg_type) pairs whose messages the monitor keeps (``collected``).
+              ready_timeout=60.0, drain_timeout=30.0, finishers=(), finish_timeout=300.0):
+    """Run ``specs`` until ``pacer`` exits 0 (and then every node in ``finishers``); returns a
+    :class:`RunResult`. ``collect``: (topic, msg_type) pairs whose messages the monitor keeps.
     """
     work_dir = Path(work_dir or tempfile.mkdtemp(prefix="motoflex_run_"))
     previous = signal.signal(signal.SIGTERM, _raise_on_sigterm)
@@ -54,7 +53,7 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
             graph = NodeGraph(specs, lock.domain_id, work_dir).start()
             try:
                 collected = _monitor(graph, pacer, duration_s, collect, progress,
-                                     ready_timeout, drain_timeout)
+                                     ready_timeout, (finishers, finish_timeout, drain_timeout))
             except BaseException:
                 graph.stop()
                 raise
@@ -70,7 +69,7 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
     return RunResult(lock.domain_id, time.monotonic() - start, codes, collected)
 
 
-def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, drain_timeout):
+def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending):
     import rclpy
     from rclpy.signals import SignalHandlerOptions
 
@@ -82,8 +81,10 @@ def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, drain_t
     try:
         monitor = Monitor(context, [s.name for s in graph.specs], collect)
         monitor.wait_ready(graph, pacer, ready_timeout)
+        finishers, finish_timeout, drain_timeout = ending
         monitor.follow(graph, pacer, duration_s, progress)
-        monitor.drain(graph, pacer, drain_timeout)
+        monitor.wait_finishers(graph, (pacer, *finishers), finish_timeout)
+        monitor.drain(graph, (pacer, *finishers), drain_timeout)
         return monitor.collected
     finally:
         rclpy.try_shutdown(context=context)

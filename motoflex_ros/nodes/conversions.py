@@ -16,7 +16,8 @@ from std_msgs.msg import String
 
 __all__ = ["time_msg", "time_ns", "clock_msg", "seconds_to_ns", "clock_ns_from_cdr",
            "wrench_msg", "phase_msg", "sample_from_phase", "points_msg", "points_from_msg",
-           "pose_msg", "identification_statuses", "results_from_statuses"]
+           "pose_msg", "identification_statuses", "results_from_statuses", "quaternion_xyzw",
+           "mode_statuses", "joint_state_msg", "poses_msg", "axis_marker"]
 
 NS_PER_S = 1_000_000_000
 
@@ -145,7 +146,9 @@ def _key_values(values):
 
 def _plain(value):
     if isinstance(value, np.generic):
-        return value.item()
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
     if isinstance(value, (list, tuple, np.ndarray)):
         return [_plain(v) for v in value]
     return value
@@ -174,6 +177,90 @@ def _status(name, values):
 
 
 def results_from_statuses(statuses):
-    """{status name: {dotted key: value}} back from DiagnosticStatus messages."""
+    """Identify-format dict {component: {...}} rebuilt from DiagnosticStatus messages made by
+    :func:`identification_statuses` (dotted keys nested again, 'split' values at the top,
+    'sweep_NN' statuses back into the 'sweep' list).
+    """
     import ast
-    return {s.name: {kv.key: ast.literal_eval(kv.value) for kv in s.values} for s in statuses}
+    out = {}
+    for status in statuses:
+        component, test = status.name.split("/", 1)
+        values = {}
+        for kv in status.values:
+            _set_dotted(values, kv.key, ast.literal_eval(kv.value))
+        comp = out.setdefault(component, {})
+        if test == "split":
+            comp.update(values)
+        elif test.startswith("sweep_") and test[6:].isdigit():
+            comp.setdefault("sweep", []).append(values)
+        else:
+            comp[test] = values
+    return out
+
+
+def _set_dotted(tree, key, value):
+    *parents, leaf = key.split(".")
+    for name in parents:
+        tree = tree.setdefault(name, {})
+    tree[leaf] = value
+
+
+# --- vehicle --------------------------------------------------------------------------------
+
+def mode_statuses(speeds_mps, modes):
+    """DiagnosticStatus per tracked mode (weave, wobble, capsize): speeds_kmh, real [1/s],
+    frequency_hz (JSON lists; null where the mode is not found)."""
+    statuses = []
+    for name, values in modes.items():
+        values = np.asarray(values, complex)
+        ok = np.isfinite(values)
+        real = [float(v.real) if f else None for v, f in zip(values, ok)]
+        freq = [float(v.imag / (2 * math.pi)) if f else None for v, f in zip(values, ok)]
+        statuses.append(DiagnosticStatus(
+            level=DiagnosticStatus.OK, name=f"vehicle/{name}", message="eigenvalue over speed",
+            hardware_id="motoflex_ros", values=[
+                KeyValue(key="speeds_kmh", value=json.dumps([3.6 * v for v in speeds_mps])),
+                KeyValue(key="real", value=json.dumps(real)),
+                KeyValue(key="frequency_hz", value=json.dumps(freq))]))
+    return statuses
+
+
+def joint_state_msg(ns, names, positions, velocities, efforts):
+    """sensor_msgs/JointState (efforts always filled: rosbags rejects Fast CDR's trailing
+    padding after an empty float64[] at the end of a message)."""
+    from sensor_msgs.msg import JointState
+    msg = JointState(name=list(names), position=[float(v) for v in positions],
+                     velocity=[float(v) for v in velocities],
+                     effort=[float(v) for v in efforts])
+    msg.header.stamp = time_msg(ns)
+    return msg
+
+
+def poses_msg(ns, frame_id, rotations, translations):
+    """geometry_msgs/PoseArray of frames (rotation matrices, translations [m])."""
+    msg = PoseArray()
+    msg.header.stamp = time_msg(ns)
+    msg.header.frame_id = frame_id
+    for rot, trans in zip(rotations, translations):
+        pose = Pose()
+        pose.position.x, pose.position.y, pose.position.z = map(float, np.real(trans))
+        x, y, z, w = quaternion_xyzw(np.real(rot))
+        pose.orientation.x, pose.orientation.y = float(x), float(y)
+        pose.orientation.z, pose.orientation.w = float(z), float(w)
+        msg.poses.append(pose)
+    return msg
+
+
+def axis_marker(marker_id, frame_id, name, point, axis, length=0.5):
+    """visualization_msgs/Marker: an arrow of ``length`` [m] along a joint axis through point."""
+    from geometry_msgs.msg import Point
+    from visualization_msgs.msg import Marker
+    start = np.asarray(point, float)
+    end = start + length * np.asarray(axis, float) / np.linalg.norm(axis)
+    marker = Marker(ns=name, id=marker_id, type=Marker.ARROW, action=Marker.ADD)
+    marker.header.frame_id = frame_id
+    marker.points = [Point(x=float(a), y=float(b), z=float(c)) for a, b, c in (start, end)]
+    marker.scale.x, marker.scale.y, marker.scale.z = 0.02, 0.04, 0.06
+    marker.color.r, marker.color.g, marker.color.b, marker.color.a = 0.9, 0.4, 0.1, 1.0
+    marker.pose.orientation.w = 1.0
+    return marker

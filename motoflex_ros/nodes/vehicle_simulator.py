@@ -1,0 +1,144 @@
+"""vehicle_simulator: the motorcycle with the identified lumped stiffness, over speed and on road.
+
+Waits for the identified parameters of ``components`` (on /identification/results, or from
+``result_file`` if given), builds the lumped ``variant`` of ``vehicle`` with the core
+(build_variant), and publishes:
+
+- /vehicle/eigenvalues (diagnostic_msgs/DiagnosticArray): weave, wobble and capsize eigenvalues
+  from ``speed_min_kmh`` to ``speed_max_kmh`` (step ``speed_step_kmh``), tracked by mode shape;
+- the steer-torque pulse road test at ``road_speed_kmh``: /vehicle/joint_states
+  (sensor_msgs/JointState: joint angles, rates, applied torques) and /vehicle/bodies
+  (geometry_msgs/PoseArray of the bodies, in the frame moving with the bike), stamped with the
+  road-test time;
+- /vehicle/joint_axes (visualization_msgs/Marker, one per revolute joint, latched).
+
+Then it exits 0 (the campaign waits for it).
+"""
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import PoseArray
+from sensor_msgs.msg import JointState
+from visualization_msgs.msg import Marker
+
+from motoflex_ros.nodes.conversions import (
+    axis_marker,
+    joint_state_msg,
+    mode_statuses,
+    poses_msg,
+    results_from_statuses,
+    seconds_to_ns,
+)
+from motoflex_ros.nodes.params import Param
+from motoflex_ros.nodes.runtime import RigNode, latched_qos, publish_patiently, run_node
+
+__all__ = ["VehicleSimulatorNode", "main"]
+
+FRAME = "vehicle"
+
+
+class VehicleSimulatorNode(RigNode):
+    """Identified parameters in, stability and road test out."""
+
+    NAME = "vehicle_simulator"
+    PARAMS = (
+        Param("components", ("frame", "front_assembly", "swingarm"),
+              description="components whose identified models go into the vehicle"),
+        Param("vehicle", "touring", description="vehicle name or YAML file"),
+        Param("variant", "static", choices=("static", "torsion", "bending", "decomposed"),
+              description="lumped variant (paper Sect. 5.2)"),
+        Param("result_file", "", description="identify-format results ('': the topic)"),
+        Param("speed_min_kmh", 40.0, 1.0, 400.0, description="lowest speed [km/h]"),
+        Param("speed_max_kmh", 210.0, 1.0, 400.0, description="highest speed [km/h]"),
+        Param("speed_step_kmh", 5.0, 0.1, 100.0, description="speed step [km/h]"),
+        Param("road_speed_kmh", 100.0, 1.0, 400.0, description="road-test speed [km/h]"),
+    )
+
+    def __init__(self):
+        from motoflex_ros.config import resolve_config
+        from motoflex_ros.structures import load_component
+        from motoflex_ros.vehicle.model import load_vehicle
+        super().__init__()
+        p = self.params
+        self.rigid = load_vehicle(resolve_config("vehicles", p["vehicle"]))
+        self.components = {n: load_component(n) for n in p["components"]}
+        self.identified = {}
+        self.eig_pub = self.create_publisher(DiagnosticArray, "/vehicle/eigenvalues",
+                                             latched_qos())
+        self.joints_pub = self.advertise(JointState, "/vehicle/joint_states")
+        self.bodies_pub = self.advertise(PoseArray, "/vehicle/bodies")
+        self.axes_pub = self.create_publisher(Marker, "/vehicle/joint_axes", latched_qos())
+        if p["result_file"]:
+            self.identified = json.loads(Path(p["result_file"]).read_text())
+        else:
+            self.subscribe(DiagnosticArray, "/identification/results", self._on_results,
+                           qos=latched_qos())
+
+    def _on_results(self, msg):
+        self.identified.update(results_from_statuses(msg.status))
+
+    def inputs_ready(self):
+        """Ready at once: the results come when the bench is done."""
+        return True
+
+    def step(self, spinner):
+        """Wait for every component's results, then compute and publish, then finish."""
+        self.announce_ready()
+        if not all(n in self.identified for n in self.params["components"]):
+            spinner.spin_once(0.1)
+            return
+        self._simulate()
+        self.finished = True
+
+    def _simulate(self):
+        from motoflex_ros.vehicle.linearize import linearize
+        from motoflex_ros.vehicle.modes import modal_sweep
+        from motoflex_ros.vehicle.variants import build_variant
+        p = self.params
+        names = list(p["components"])
+        model = build_variant(self.rigid, p["variant"], names, self.identified,
+                              self.components)
+        lin = linearize(model)
+        speeds = np.arange(p["speed_min_kmh"], p["speed_max_kmh"] + 1e-9,
+                           p["speed_step_kmh"]) / 3.6
+        sweep = modal_sweep(lin, speeds)
+        self.eig_pub.publish(DiagnosticArray(status=mode_statuses(speeds, sweep.modes)))
+        for k, joint in enumerate(j for j in model.joints if j.kind == "revolute"):
+            self.axes_pub.publish(axis_marker(k, FRAME, joint.name, joint.point, joint.axis))
+        self._road_test(lin, model, p["road_speed_kmh"] / 3.6)
+        self.get_logger().info(f"vehicle: {len(speeds)} speeds, road test published")
+
+    def _road_test(self, lin, model, speed):
+        from motoflex_ros.vehicle.kinematics import frame_states
+        from motoflex_ros.vehicle.response import steer_pulse_response
+        names = tuple(lin.state_names)
+        pulse = steer_pulse_response(lin, speed, outputs=names)
+        tree = lin.system.tree
+        coords = [c.name for c in tree.coordinates]
+        joints = [n for n in names if n in coords and f"{n}_rate" in names]
+        steer = model.roles.get("steer", "steer")
+        bodies = [(b.name, tree.body_frames[b.name]) for b in model.bodies if b.mass > 0]
+        for row, t in zip(pulse.outputs, pulse.time):
+            values = dict(zip(names, row))
+            ns = seconds_to_ns(t)
+            torque = pulse.torque if t < pulse.duration else 0.0
+            efforts = [torque if j == steer else 0.0 for j in joints]
+            publish_patiently(self.joints_pub, joint_state_msg(
+                ns, joints, [values[j] for j in joints], [values[f"{j}_rate"] for j in joints],
+                efforts))
+            q = np.array([values.get(c, 0.0) for c in coords])
+            frames = frame_states(tree, q, np.zeros_like(q))
+            publish_patiently(self.bodies_pub, poses_msg(
+                ns, FRAME, [frames[f].R for _, f in bodies], [frames[f].t for _, f in bodies]))
+
+
+def main(args=None):
+    """Console script ``vehicle_simulator``."""
+    return run_node(VehicleSimulatorNode, args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
