@@ -61,3 +61,21 @@ def test_noisy_interval_width_scales_with_noise():
         model = static_model(run.readings["static"], setup.reduced.q0)[0]
         widths.append(np.diff(model.ci["k"])[0])
     assert widths[1] / widths[0] == pytest.approx(0.5, rel=0.15)
+
+
+@pytest.mark.parametrize("component", ["frame", "front_assembly", "swingarm"])
+def test_free_decay_with_noise_within_one_percent_of_eigenvalue(component):
+    """Release from the preload with the default 5 um sensor: the first torsion/bending mode
+    (and the other one where the lateral load excites it enough to be found) within 1 %."""
+    from motoflex_ros.identify.decay import match_pole
+    setup = only_tests(setup_campaign(component), ("decay",))
+    for seed in range(3):
+        poles = list(run_campaign(setup, seed=seed).readings["decay"].poles)
+        first = setup.modes.first_lateral()
+        assert match_pole(poles, first.omega_n) is not None
+        for label in ("torsion", "bending"):
+            mode = setup.modes.first(label)
+            pole = match_pole(poles, mode.omega_n)
+            if pole is not None:
+                assert pole.omega_n == pytest.approx(mode.omega_n, rel=0.01), (label, seed)
+                assert pole.zeta == pytest.approx(mode.zeta, rel=0.01), (label, seed)
