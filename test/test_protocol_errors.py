@@ -73,6 +73,7 @@ PROTOCOL_ERRORS = [
     (lambda d: d["sweep"].update(end_below_first_hz=first_hz() - 0.5), "below its start"),
     (set_key("static", "ramp_time_s", value=0.02), "ramp would excite"),
     (set_key("static", "force_n", value=1e6), "small and linear"),
+    (set_key("static", "hold_time_s", value=0.001), "fewer than 10 samples"),
     (set_key("sweep", "amplitude_n", value=2e5), "small and linear"),
 ]
 

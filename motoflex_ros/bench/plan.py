@@ -70,6 +70,9 @@ def _static(protocol, modes):
     if s.sample_rate_hz > protocol.sensor.max_rate_hz:
         raise ProtocolError(f"static test: sample_rate_hz {s.sample_rate_hz:g} exceeds the "
                             f"sensor's max_rate_hz {protocol.sensor.max_rate_hz:g}")
+    if round(s.hold_time_s * s.sample_rate_hz) < 10:
+        raise ProtocolError(f"static test: hold_time_s {s.hold_time_s:g} s gives fewer than 10 "
+                            f"samples at {s.sample_rate_hz:g} Hz to read at the maximum")
     n = round((s.ramp_time_s + s.hold_time_s) * s.sample_rate_hz) + 1
     return TestPlan("static", "static", s.sample_rate_hz, n, s.force_n,
                     ramp_time_s=round(s.ramp_time_s * s.sample_rate_hz) / s.sample_rate_hz)
