@@ -45,7 +45,7 @@ from motoflex_ros.vehicle.model import Body, Joint
 
 __all__ = ["VARIANTS", "COMPONENTS", "GAMMA", "FlexJoint", "ComponentSite", "site_of",
            "axis_in_vehicle", "state_of_the_art_axis", "state_of_the_art_stiffness",
-           "check_site", "flex_joints", "lumped_vehicle",
+           "check_site", "reattach", "flex_joints", "lumped_vehicle",
            "mass_properties", "MOUNTS"]
 
 VARIANTS = ("rigid", "state_of_the_art", "static", "torsion", "bending", "decomposed")
@@ -319,14 +319,22 @@ def _insert(model, component, variant, joints, bodies, joint_list, wheels):
                                 fj.k, fj.c))
         parent = child
     bodies[new_body.name] = new_body
+    reattach(model, component, joint_list, wheels, new_body.name)
+
+
+def reattach(model, component, joint_list, wheels, new_parent):
+    """Hang what the component carries (steering joint or wheel) from body ``new_parent``.
+
+    Edits ``joint_list`` or ``wheels`` (lists of the model's joints and wheels) in place.
+    """
     kind, name = MOUNTS[component][1]
     if kind == "joint":
         role = model.roles.get(name, name)
         idx = next(i for i, j in enumerate(joint_list) if j.name == role)
-        joint_list[idx] = replace(joint_list[idx], parent=new_body.name)
+        joint_list[idx] = replace(joint_list[idx], parent=new_parent)
     else:
         idx = next(i for i, w in enumerate(wheels) if w.name == name)
-        wheels[idx] = replace(wheels[idx], carrier=new_body.name)
+        wheels[idx] = replace(wheels[idx], carrier=new_parent)
 
 
 def lumped_vehicle(model, variant, joints_by_component):

@@ -2,17 +2,21 @@
 
 ``build_variant(vehicle, variant, names, identified, components)`` gives the VehicleModel of one
 of the paper's variants (Sect. 5.2) with the flexibility of the components ``names`` (a subset
-of frame, front_assembly, swingarm): ``rigid``, the lumped ``state_of_the_art``, ``static``,
+of frame, front_assembly, swingarm): ``rigid``, ``flexible`` (Craig-Bampton superelements,
+:mod:`motoflex_ros.vehicle.superelement`), the lumped ``state_of_the_art``, ``static``,
 ``torsion``, ``bending`` and ``decomposed`` models (:mod:`motoflex_ros.vehicle.lumped`).
 ``components`` maps a component name to its structures Component (placement, loaded end, the
 clamped finite-element model for the state-of-the-art static moment test).
 """
+from dataclasses import replace
+
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.vehicle import lumped
+from motoflex_ros.vehicle.superelement import chain_parts, end_body, superelement_of
 
-__all__ = ["FLEX_CHOICES", "parse_components", "build_variant"]
+__all__ = ["FLEX_CHOICES", "parse_components", "build_variant", "flexible_vehicle"]
 
-FLEX_CHOICES = lumped.VARIANTS
+FLEX_CHOICES = ("flexible",) + lumped.VARIANTS
 
 
 def parse_components(text, source="--components"):
@@ -39,6 +43,11 @@ def build_variant(vehicle, variant, names, identified, components):
                                                f"{', '.join(FLEX_CHOICES)}")
     if variant == "rigid":
         return vehicle
+    if variant == "flexible":
+        for name in names:
+            lumped.check_site(vehicle, name, lumped.site_of(components[name]))
+        return flexible_vehicle(vehicle, {
+            name: superelement_of(components[name], lumped.MOUNTS[name][0]) for name in names})
     joints = {}
     for name in names:
         site = lumped.site_of(components[name])
@@ -50,3 +59,23 @@ def build_variant(vehicle, variant, names, identified, components):
             sota = (point, axis, lumped.state_of_the_art_stiffness(reduced, axis))
         joints[name] = lumped.flex_joints(variant, name, identified, site, sota)
     return lumped.lumped_vehicle(vehicle, variant, joints)
+
+
+def flexible_vehicle(vehicle, superelements):
+    """The rigid vehicle with each component's superelement in place (the ground truth).
+
+    ``superelements`` maps a component name to its Superelement (welded to the donor body of
+    :data:`lumped.MOUNTS`); what the component carries hangs from the superelement's end body.
+    """
+    bodies = list(vehicle.bodies)
+    joints = list(vehicle.joints)
+    wheels = list(vehicle.wheels)
+    for component, se in superelements.items():
+        new_bodies, new_joints = chain_parts(se)
+        bodies += new_bodies
+        joints += new_joints
+        lumped.reattach(vehicle, component, joints, wheels, end_body(se))
+    flex = {**vehicle.flex, "variant": "flexible", "components": tuple(superelements)}
+    return replace(vehicle, name=f"{vehicle.name}+flexible", bodies=tuple(bodies),
+                   joints=tuple(joints), wheels=tuple(wheels),
+                   elements=vehicle.elements + tuple(superelements.values()), flex=flex)

@@ -1,0 +1,179 @@
+"""Craig-Bampton superelements: a clamped component's reduced model inside the vehicle.
+
+The flexible ground truth of the paper (Sect. 4.1, Appendix: flexible bodies reduced by
+Craig-Bampton, floating frame of reference) with the same reduced model the bench measured
+(:meth:`Component.clamped_reduced`: same modes, same modal damping). The component's clamp nodes
+are welded to a parent body; its loaded end carries what hangs from the component in the
+vehicle (the steering joint on the frame's steering head, a wheel on the front assembly's or
+swingarm's axle).
+
+Coordinates x = (u_end [m], theta_end [rad], eta [-]): the loaded end's translation and small
+rotation relative to the parent (realised in the engine as a chain of three prismatic and three
+revolute coordinates through q0, exact to first order) and the fixed-interface modal
+amplitudes. Linearized about straight running (parent translating at v, no rotation, x = 0),
+the superelement adds to the equations of motion, with a_P = (alpha, a_0 + omega x v_0) the
+parent's acceleration field at the world origin:
+
+    elastic rows:  M_xx x'' + M_xR a_P + C_xx x' + K_xx x - M_v^T R_P^T g
+    parent rows:   J_P^T (M_Rx x'') - J_w^T ((R_P M_v x) x g)
+
+M_xR = T^T M Gamma couples elastic and rigid motion (Gamma: the rigid-motion field of the
+component's nodes, columns omega then v_0), M_v its translational part (the static moment of
+the elastic displacement), g the gravity vector [m/s^2]. The rigid-body mass of the component
+stays with the vehicle's rigid bodies, which already carry it, so total mass, centre of mass and
+inertia equal the rigid motorcycle's by construction.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from motoflex_ros.structures.clamped import reduce_clamped
+from motoflex_ros.vehicle.model import Body, Joint
+from motoflex_ros.vehicle.spatial import cross
+
+__all__ = ["Superelement", "superelement_of", "rigid_field", "coordinate_names", "end_body",
+           "chain_parts", "generalized_residual"]
+
+
+@dataclass(frozen=True)
+class Superelement:
+    """A component's clamped Craig-Bampton model placed in the vehicle.
+
+    name; parent: body its clamps are welded to; end_point q0 [m] (vehicle frame); M, K, C
+    (n_x square, [kg], [N/m], [N s/m] and mixed units by coordinate); M_xR (n_x, 6) coupling
+    with the parent's (omega, v_0) field; n_modes fixed-interface modes after the six end DOFs.
+    """
+
+    name: str
+    parent: str
+    end_point: np.ndarray
+    M: np.ndarray
+    K: np.ndarray
+    C: np.ndarray
+    M_xR: np.ndarray
+    n_modes: int
+
+    @property
+    def n(self):
+        """Number of elastic coordinates (6 end DOFs + modes)."""
+        return self.K.shape[0]
+
+    @property
+    def M_v(self):
+        """Translational coupling (3, n_x) [kg]: static moment of the elastic displacement."""
+        return self.M_xR[:, 3:].T
+
+    def generalized_residual(self, system, frames, q, u, udot):
+        """Force-element hook of the engine (see :func:`generalized_residual`)."""
+        return generalized_residual(self, system, frames, q, u, udot)
+
+    def scaled(self, factor):
+        """The same superelement with stiffness multiplied by ``factor`` (rigid-limit checks)."""
+        return Superelement(self.name, self.parent, self.end_point, self.M, self.K * factor,
+                            self.C * factor, self.M_xR, self.n_modes)
+
+
+def rigid_field(xyz):
+    """Rigid-motion field (6 n_nodes, 6) of nodes at ``xyz`` [m]: columns (omega, v_0).
+
+    Node translation v_0 + omega x r = v_0 - [r]x omega; node rotation omega.
+    """
+    n = len(xyz)
+    field = np.zeros((n, 6, 6))
+    r = np.asarray(xyz, float)
+    field[:, 0, 1], field[:, 0, 2] = r[:, 2], -r[:, 1]
+    field[:, 1, 0], field[:, 1, 2] = -r[:, 2], r[:, 0]
+    field[:, 2, 0], field[:, 2, 1] = r[:, 1], -r[:, 0]
+    field[:, 0:3, 3:6] = np.eye(3)
+    field[:, 3:6, 0:3] = np.eye(3)
+    return field.reshape(6 * n, 6)
+
+
+def _assembled_rigid_field(asm, node_xyz):
+    """Rigid field on the assembled DOFs: Gamma_asm with expand @ Gamma_asm = Gamma_nodes."""
+    gamma_nodes = rigid_field(node_xyz)
+    normal = (asm.expand.T @ asm.expand).tocsc()
+    return spla.spsolve(normal, asm.expand.T @ gamma_nodes).reshape(-1, 6)
+
+
+def superelement_of(component, parent, n_modes=20, f_max_hz=600.0, zeta=0.01):
+    """Superelement of a structures Component welded to body ``parent`` at its clamps.
+
+    The reduced matrices are those of ``component.clamped_reduced(n_modes, f_max_hz, zeta)``;
+    node positions are taken in the vehicle frame (placement origin + component frame).
+    """
+    cb, asm = component.craig_bampton(n_modes, f_max_hz, zeta)
+    n_clamp = 6 * len(component.clamp_nodes)
+    keep = np.arange(n_clamp, cb.K.shape[0])
+    end = 6 * list(component.interface_nodes).index(component.loaded_end) - n_clamp
+    if end != 0:
+        raise ValueError("the loaded end must be the first non-clamped interface node")
+    reduced = reduce_clamped(component.name, cb, keep, end + np.arange(6), component.q0,
+                             asm.expand, zeta)
+    gamma = _assembled_rigid_field(asm, component.node_xyz + component.origin)
+    transform = cb.transform[:, keep]
+    mass = asm.M if sp.issparse(asm.M) else sp.csr_matrix(asm.M)
+    coupling = np.asarray(transform.T @ (mass @ gamma))
+    return Superelement(component.name, parent, component.origin + component.q0, reduced.M,
+                        reduced.K, reduced.C, coupling, cb.n_modes)
+
+
+_END_DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
+_UNIT = np.eye(3)
+
+
+def coordinate_names(se):
+    """Engine coordinate names of a superelement: six end DOFs, then the modal amplitudes."""
+    return [f"{se.name}_{d}" for d in _END_DOFS] + [f"{se.name}_eta{i}"
+                                                      for i in range(se.n - 6)]
+
+
+def end_body(se):
+    """Name of the (massless) body that moves with the superelement's loaded end."""
+    return f"{se.name}_end"
+
+
+def chain_parts(se):
+    """Massless bodies and joints that realise the elastic coordinates in the engine.
+
+    End DOFs: prismatic along x, y, z then revolute about x, y, z, all through the loaded end
+    q0 (exact to first order: the linearization sees u_end and theta_end). Modal amplitudes:
+    prismatic joints of zero axis (coordinates that move no frame); their inertia, stiffness
+    and damping come from the element's residual.
+    """
+    names = coordinate_names(se)
+    bodies, joints = [], []
+    parent = se.parent
+    for i, name in enumerate(names):
+        child = end_body(se) if i == 5 else f"{name}_body"
+        if i < 3:
+            kind, axis = "prismatic", _UNIT[i]
+        elif i < 6:
+            kind, axis = "revolute", _UNIT[i - 3]
+        else:
+            kind, axis = "prismatic", np.zeros(3)
+            parent = se.parent
+        bodies.append(Body(child, 0.0, se.end_point.copy(), np.zeros((3, 3))))
+        joints.append(Joint(name, kind, parent, child, axis, se.end_point.copy()))
+        parent = child
+    return bodies, joints
+
+
+def generalized_residual(se, system, frames, q, u, udot):
+    """The superelement's terms of the residual (module docstring), over all coordinates."""
+    idx = [system.tree.index(n) for n in coordinate_names(se)]
+    f = frames[system.tree.body_frames[se.parent]]
+    g = np.array([0.0, 0.0, -system.model.gravity])
+    x, xd, xdd = q[idx], u[idx], udot[idx]
+    alpha = f.Jw @ udot + f.dw
+    a0 = f.Jv @ udot + f.dv0 + cross(f.w, f.v0)
+    field_acc = np.concatenate([alpha, a0])
+    out = np.zeros(len(u), np.result_type(q, u, udot, f.R))
+    out[idx] = (se.M @ xdd + se.M_xR @ field_acc + se.C @ xd + se.K @ x
+                - se.M_v.T @ (f.R.T @ g))
+    wrench = se.M_xR.T @ xdd
+    moment = cross(f.R @ (se.M_v @ x), g)
+    out += f.Jw.T @ (wrench[:3] - moment) + f.Jv.T @ wrench[3:]
+    return out
