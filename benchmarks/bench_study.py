@@ -11,7 +11,8 @@ Motorcycles from the vehicle engine, 171 speeds (40-210 km/h, 1 km/h steps):
   with --dask the 729-run study also on a 2-process LocalCluster.
 
 Ratios are measured in the same run (design.md Sect. 8); absolute times drift on shared
-machines. Run: OPENBLAS_NUM_THREADS=1 python benchmarks/bench_study.py [--dask]
+machines, so the CPU time of this process is printed next to the wall time.
+Run: OPENBLAS_NUM_THREADS=1 python benchmarks/bench_study.py [--dask]
 """
 import argparse
 import os
@@ -35,16 +36,20 @@ COMPONENTS = ("frame", "front_assembly", "swingarm")
 
 
 def best_of(repeats, function):
+    """Smallest (wall, CPU) time [s] of ``repeats`` calls."""
     times = []
     for _ in range(repeats):
-        start = time.perf_counter()
+        wall, cpu = time.perf_counter(), time.process_time()
         function()
-        times.append(time.perf_counter() - start)
+        times.append((time.perf_counter() - wall, time.process_time() - cpu))
     return min(times)
 
 
 def row(label, seconds, baseline, extra=""):
-    print(f"  {label:<44s}{seconds:8.3f} s   {seconds / baseline:6.2f}{extra}")
+    """One line: label, wall and CPU time, ratio of the wall (CPU) times to the baseline's."""
+    wall, cpu = seconds
+    print(f"  {label:<46s}{wall:7.3f} s wall {cpu:7.3f} s CPU   ratio {wall / baseline[0]:5.2f} "
+          f"({cpu / baseline[1]:5.2f}){extra}")
 
 
 def bench_rigid(vehicle, repeats):
@@ -95,7 +100,7 @@ def eigvals_baseline(study, levels, max_runs=64):
         e, a = zip(*(pencil(values, v) for v in SPEEDS))
         return np.linalg.eigvals(np.linalg.solve(np.stack(e, 1), np.stack(a, 1)))
 
-    return best_of(1, all_speeds) * len(design) / runs
+    return tuple(t * len(design) / runs for t in best_of(1, all_speeds))
 
 
 def bench_lumped(scheduler):
@@ -107,27 +112,30 @@ def bench_lumped(scheduler):
     print(f"decomposed lumped touring motorcycle, n = {n}, {SPEEDS.size} speeds (set-up: FE "
           f"axes, 1 linearization, 12 for the stiffness directions, nominal modal sweep: "
           f"{time.perf_counter() - start:.1f} s)")
+    run_sensitivity(study.study, study.nominal, SPEEDS, levels=2, progress=False)  # warm-up
     for levels, label in ((2, "64-run study (target <= 1 s)"),
                           (3, "729-run study (target <= 10 s)")):
         baseline = eigvals_baseline(study, levels)
-        run_sensitivity(study.study, study.nominal, SPEEDS, levels=2, progress=False)  # warm-up
         row(f"batched eigvals, {levels ** 6} runs (baseline)", baseline, baseline,
             "" if levels == 2 else "   (from 64 runs x 729/64)")
-        start = time.perf_counter()
-        result, run = run_sensitivity(study.study, study.nominal, SPEEDS, levels=levels,
-                                      progress=False)
-        total = time.perf_counter() - start
-        row(f"{label}: modes", run.seconds, baseline)
-        row(f"{label}: with indices, ANOVA, Pearson", total, baseline,
-            f"   (main-effect share min {min(result.anova_main_share.values()):.4f})")
+        out = {}
+
+        def study_run(levels=levels, scheduler=None, out=out):
+            out["result"], out["run"] = run_sensitivity(study.study, study.nominal, SPEEDS,
+                                                        levels=levels, scheduler=scheduler,
+                                                        progress=False)
+
+        total = best_of(1, study_run)
+        shares = min(out["result"].anova_main_share.values())
+        row(f"{label}, all", total, baseline, f"   (main-effect share min {shares:.4f}, "
+            f"modes alone {out['run'].seconds:.3f} s wall)")
         if scheduler and levels == 3:
             from motoflex_ros.study.runner import local_cluster
 
             with local_cluster(n_workers=2) as cluster:
-                start = time.perf_counter()
-                run_sensitivity(study.study, study.nominal, SPEEDS, levels=levels,
-                                scheduler=cluster, progress=False)
-                row(f"{label} on Dask (2 processes)", time.perf_counter() - start, baseline)
+                row(f"{label} on Dask (2 processes)",
+                    best_of(1, lambda: study_run(3, cluster)), baseline,
+                    "   (CPU: this process only)")
 
 
 def main():
