@@ -64,7 +64,8 @@ def campaign_specs(components, bag, noise=None, seed=0, protocol=None):
         NodeSpec("component_simulator", dict(bench)),
         NodeSpec("displacement_sensor", dict(bench)),
         NodeSpec("identification", {**bench, "result_file": str(Path(bag) / RESULT_FILE)}),
-        NodeSpec("recorder", {"bag": str(bag), "topics": campaign_topics(components)}),
+        NodeSpec("recorder", {"bag": str(bag), "topics": campaign_topics(components),
+                              "late_topics": ["/identification/results", *VEHICLE_TOPICS]}),
     ]
 
 

@@ -63,7 +63,7 @@ class LoadActuatorNode(RigNode):
         self.last_ns = dict.fromkeys(self.setups, -1)
         self.done = set()
         self.ended = set()
-        self.clock_ns = -1
+        self.clock_ns = -seconds_to_ns(p["clock_period"]) - 1  # the first tick is at t = 0
         self.started = False
         self.progress = time.monotonic()
 

@@ -27,6 +27,8 @@ class Recorder(RigNode):
     PARAMS = (
         Param("bag", "", description="bag directory to create (must not exist)"),
         Param("topics", (), description="topics to record (empty: every topic discovered)"),
+        Param("late_topics", (), description="topics of ``topics`` that may appear after the "
+              "run started (not waited for)"),
         Param("chunk_size", 262144, 4096, 64 * 2**20, description="MCAP chunk size [bytes]"),
         Param("compression", "zstd", choices=("zstd", "lz4", "none")),
         Param("ack", False, description="acknowledge recorded /clock times on /rig/ack"),
@@ -78,8 +80,11 @@ class Recorder(RigNode):
         """Ready when every listed topic (discovery mode: at least one topic) is subscribed
         and sees a publisher.
         """
-        listed = all(t in self.recorded for t in self.wanted) if self.wanted else self.recorded
-        return bool(listed) and super().inputs_ready()
+        late = set(self.params["late_topics"])
+        listed = (all(t in self.recorded for t in self.wanted if t not in late) if self.wanted
+                  else self.recorded)
+        return bool(listed) and all(sub.get_publisher_count() > 0 for sub in self._checked
+                                    if sub.topic_name not in late)
 
     def step(self, spinner):
         """Record what arrived; look for new topics now and then."""
