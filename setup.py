@@ -33,6 +33,8 @@ setup(
         ("share/" + PACKAGE + "/config/components", glob("config/components/*.yaml")),
         ("share/" + PACKAGE + "/config/vehicles", glob("config/vehicles/*.yaml")),
         ("share/" + PACKAGE + "/config/protocols", glob("config/protocols/*.yaml")),
+        ("share/" + PACKAGE + "/config/nodes", glob("config/nodes/*.yaml")),
+        ("share/" + PACKAGE + "/launch", glob("launch/*.launch.py")),
     ],
     python_requires=">=3.10",
     install_requires=[

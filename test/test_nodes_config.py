@@ -1,0 +1,88 @@
+"""Shipped node parameter files and the message conversions (no ROS graph needed)."""
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+pytest.importorskip("rclpy")
+import rclpy  # noqa: E402
+from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
+from scipy.spatial.transform import Rotation  # noqa: E402
+
+from motoflex_ros.nodes import conversions  # noqa: E402
+
+CONFIG = Path(conversions.__file__).resolve().parents[1] / "config" / "nodes"
+NODES = {"sim_clock": "SimClock", "recorder": "Recorder", "bag_replay": "BagReplay",
+         "load_actuator": "LoadActuatorNode", "component_simulator": "ComponentSimulatorNode",
+         "displacement_sensor": "DisplacementSensorNode", "identification": "IdentificationNode",
+         "vehicle_simulator": "VehicleSimulatorNode"}
+
+
+@pytest.mark.parametrize("name", sorted(NODES))
+def test_nodes_config_defaults_roundtrip(name):
+    """The shipped file holds the declared defaults, and rcl parses it into those values."""
+    import importlib
+    node_class = getattr(importlib.import_module(f"motoflex_ros.nodes.{name}"), NODES[name])
+    path = CONFIG / f"{name}.yaml"
+    values = yaml.safe_load(path.read_text())[name]["ros__parameters"]
+    declared = {p.name: p for p in node_class.PARAMS}
+    assert set(values) <= set(declared)
+    for key, value in values.items():
+        default = declared[key].default
+        assert declared[key].check(name, value) == default, key
+    missing = {k for k in declared if k not in values}
+    assert all(declared[k].default == () for k in missing), missing
+    context = rclpy.Context()
+    rclpy.init(args=["x", "--ros-args", "--params-file", str(path)], context=context)
+    try:
+        node = rclpy.create_node(name, context=context)
+        parsed = {k: p.value for k, p in node._parameter_overrides.items()}
+        node.destroy_node()
+    finally:
+        rclpy.shutdown(context=context)
+    assert {k: tuple(v) if isinstance(v, list) else v for k, v in parsed.items()} == {
+        k: tuple(v) if isinstance(v, list) else v for k, v in values.items()}
+
+
+@pytest.mark.parametrize("rotvec", [(0.0, 0.0, 0.0), (1e-4, 2e-4, -3e-4), (3.0, 0.1, 0.0),
+                                    (0.0, 3.1, 0.2), (0.1, 0.0, 3.1), (1.0, 1.0, 1.0)])
+def test_nodes_quaternion_scipy(rotvec):
+    rot = Rotation.from_rotvec(rotvec)
+    q = np.array(conversions.quaternion_xyzw(rot.as_matrix()))
+    ref = rot.as_quat()
+    assert min(np.abs(q - ref).max(), np.abs(q + ref).max()) < 1e-15
+    assert math.isclose(np.linalg.norm(q), 1.0, rel_tol=1e-15)
+
+
+def test_nodes_phase_and_points_roundtrip():
+    from geometry_msgs.msg import PoseArray
+    from std_msgs.msg import String
+
+    from motoflex_ros.bench.actuator import LoadSample
+    sample = LoadSample(7, 0.1 + 1 / 603.1802138593138, 1 / 603.1802138593138, -12.5e-3,
+                        "sweep_03", "sweep", "steady", 104.0, False)
+    msg = deserialize_message(serialize_message(conversions.phase_msg(sample)), String)
+    assert conversions.sample_from_phase(msg, sample.force) == (sample, None)
+    end = conversions.phase_msg(end_ns=123456789)
+    assert conversions.sample_from_phase(end, 0.0) == (None, 123456789)
+    points = np.random.default_rng(1).normal(size=(8, 3)) * 1e-3
+    wire = deserialize_message(serialize_message(conversions.points_msg(5, "f", points)),
+                               PoseArray)
+    assert np.array_equal(conversions.points_from_msg(wire), points)
+
+
+def test_nodes_identification_statuses_roundtrip():
+    """identify-format results -> DiagnosticStatus KeyValues -> the same results, exactly."""
+    from diagnostic_msgs.msg import DiagnosticArray
+
+    from motoflex_ros.bench.campaign import identify_components
+    from motoflex_ros.cli.output import to_jsonable
+    runs = identify_components(["swingarm"], seed=0)
+    result = to_jsonable(runs["swingarm"][1].identification.to_dict())
+    array = DiagnosticArray(status=conversions.identification_statuses("swingarm", result))
+    wire = deserialize_message(serialize_message(array), DiagnosticArray)
+    names = [s.name for s in wire.status]
+    assert names[0] == "swingarm/split" and "swingarm/static" in names
+    assert conversions.results_from_statuses(wire.status) == {"swingarm": result}
