@@ -31,6 +31,7 @@ from motoflex_ros.identify.uncertainty import mean_and_covariance, propagate
 __all__ = ["StaticReading", "HarmonicReading", "DecayReading", "Identifier"]
 
 MIN_FIT_SAMPLES = 4
+PEAKS_PER_WINDOW = 2  # the maximum and the minimum of the fitted lateral displacement
 
 
 @dataclass(frozen=True)
@@ -65,10 +66,13 @@ class HarmonicReading:
     def mean(self):
         """Mean axis (l, beta, b) over the peaks and its covariance.
 
-        beta and b are averaged (covariance of the mean from their scatter); l = L - b /
-        sin(beta) follows from them (see :class:`motoflex_ros.identify.peaks.RunningMean`).
+        beta and b are averaged; l = L - b / sin(beta) follows from them (see
+        :class:`motoflex_ros.identify.peaks.RunningMean`). The covariance of the mean comes from
+        the scatter of the per-window means: the maximum and the minimum of one window share
+        one sine fit, so their errors are correlated and they count as one observation.
         """
-        mean, cov = mean_and_covariance(self.peaks[:, 1:])
+        per_period = self.peaks[:, 1:].reshape(-1, PEAKS_PER_WINDOW, 2).mean(axis=1)
+        mean, cov = mean_and_covariance(per_period)
         if not np.all(np.isfinite(cov)):
             cov = np.zeros((2, 2))
 

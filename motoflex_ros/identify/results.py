@@ -93,7 +93,7 @@ def _harmonic_axis(reading):
     mean, cov = reading.mean()
     mean = mean.copy()
     mean[1] = float(np.mod(mean[1], np.pi))
-    dof = max(reading.n_peaks - 1, 1)
+    dof = max(reading.n_peaks // 2 - 1, 1)
     ci = {n: interval(mean[i], cov[i, i], dof) for i, n in enumerate(("l", "beta", "b"))}
     info = {"n_peaks": reading.n_peaks, "n_samples": reading.n_samples,
             "settled": reading.settled}
