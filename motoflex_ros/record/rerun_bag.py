@@ -19,8 +19,8 @@ Result files of the run folder are logged too: identification.json (or identify.
 static, torsion, bending and sweep axes, k_t and k_b) and eig.json (eigenvalues against speed,
 weave and wobble).
 
-Message times are the header stamps (simulated time) where a message has one, else the bag's
-log time; ``sim_time`` is measured from the bag's first message.
+Times are the header stamps (the rig's simulated time; the bag's log times are the recorder's
+wall clock); ``sim_time`` is measured from the earliest stamp, which is 0 for a simulated run.
 """
 import functools
 import json
@@ -42,6 +42,7 @@ __all__ = ["convert_bag", "rrd_path_of", "BENCH_TOPIC", "decode"]
 BENCH_TOPIC = re.compile(r"^/bench/(?P<component>[^/]+)/(?P<what>load|pose|markers/true|"
                          r"markers/measured)$")
 MAX_MARKER_FRAMES = 400
+BENCH_SPACING_M = 1.0     # lateral spacing of the components on the bench [m]
 
 
 @functools.cache
@@ -61,20 +62,25 @@ def rrd_path_of(bag_dir):
     return bag_dir / f"{bag_dir.name}.rrd"
 
 
-def _stamp_ns(msg, log_time_ns):
+def _stamp_ns(msg):
+    """Header stamp [ns] (the rig's simulated time; 0 is a valid stamp), or None."""
     header = getattr(msg, "header", None)
     if header is None:
-        return log_time_ns
-    ns = header.stamp.sec * 1_000_000_000 + header.stamp.nanosec
-    return ns if ns > 0 else log_time_ns
+        return None
+    return header.stamp.sec * 1_000_000_000 + header.stamp.nanosec
 
 
 def _collect(bag_dir):
-    """Messages grouped by topic: {topic: [(t_ns, msg), ...]} in recording order."""
+    """Stamped messages grouped by topic: {topic: [(t_ns, msg), ...]} in recording order.
+
+    Messages without a header (/clock, phase strings) carry no simulated time and are left out.
+    """
     grouped = defaultdict(list)
     for message in read_messages(bag_dir):
         msg = decode(message)
-        grouped[message.topic].append((_stamp_ns(msg, message.log_time_ns), msg))
+        stamp = _stamp_ns(msg)
+        if stamp is not None:
+            grouped[message.topic].append((stamp, msg))
     return grouped
 
 
@@ -109,7 +115,7 @@ def _static_shapes(reduced, forces):
     return np.stack([reduced.node_displacements(x)[:, :3] for x in reduced_coords])
 
 
-def _log_bench_load(rec, component, samples, pose_samples, t0, model):
+def _log_bench_load(rec, component, samples, pose_samples, t0, model, bench_offset):
     times = _times(samples, t0)
     forces = np.array([_vec(m.wrench.force) for _, m in samples])
     q0 = model[0].q0 if model else None
@@ -123,7 +129,7 @@ def _log_bench_load(rec, component, samples, pose_samples, t0, model):
     rl.log_load(rec, component, times, forces, load_xyz, displacement, pose_times)
     if model:
         comp, reduced = model
-        rl.log_component_frame(rec, component, comp.origin)
+        rl.log_component_frame(rec, component, comp.origin, bench_offset)
         picks = rl.subsample_indices(len(times))
         shapes = _static_shapes(reduced, forces[picks])
         factor = rl.exaggeration_factor(comp.node_xyz, shapes)
@@ -276,10 +282,10 @@ def _bench_topics(grouped):
 
 def _log_bench_topics(rec, bench, t0):
     converted = []
-    for component, topics in sorted(bench.items()):
+    for k, (component, topics) in enumerate(sorted(bench.items())):
         if "load" in topics:
             _log_bench_load(rec, component, topics["load"], topics.get("pose"), t0,
-                            _model(component))
+                            _model(component), (0.0, BENCH_SPACING_M * k, 0.0))
         for kind in ("true", "measured"):
             if f"markers/{kind}" in topics:
                 _log_markers(rec, component, kind, topics[f"markers/{kind}"], t0)
@@ -306,7 +312,7 @@ def convert_bag(bag_dir, rrd_path=None, vehicle="touring"):
     bag_dir = Path(bag_dir)
     info = bag_info(bag_dir)
     grouped = _collect(bag_dir)
-    t0 = min((s[0][0] for s in grouped.values() if s), default=0)
+    t0 = min((t for samples in grouped.values() for t, _ in samples), default=0)
     bench = _bench_topics(grouped)
     identify = _read_json(bag_dir, "identification.json", "identify.json")
     with rl.RunRecording(rrd_path or rrd_path_of(bag_dir), bag_dir.name,

@@ -110,10 +110,14 @@ def _segments(node_xyz, elements):
     return node_xyz[np.asarray(elements, int)]
 
 
-def log_component_frame(rec, component, origin):
-    """Static placement of the component frame (O) in the vehicle frame [m]."""
-    rec.log(f"/bench/{component}", rr.Transform3D(translation=np.asarray(origin, float)),
-            static=True)
+def log_component_frame(rec, component, origin, bench_offset=(0.0, 0.0, 0.0)):
+    """Static placement of the component frame: O in the vehicle frame [m] + ``bench_offset``.
+
+    The offset [m] sets components that share a placement (frame and swingarm clamp at the
+    same pivot) side by side on the bench; their x-z planes stay parallel.
+    """
+    translation = np.asarray(origin, float) + np.asarray(bench_offset, float)
+    rec.log(f"/bench/{component}", rr.Transform3D(translation=translation), static=True)
 
 
 def log_structure_model(rec, component, node_xyz, elements, clamp_xyz, load_xyz, factor):
@@ -224,10 +228,11 @@ def log_axis(rec, component, test, l, beta, q0, half_length=None):
 def log_sweep_axes(rec, component, frequencies_hz, ls, betas, q0, half_length=None):
     """Axes of the harmonic sweep (Figs. 5-7, thin black lines): one strip per frequency."""
     strips = [axis_segment(l, b, q0, half_length) for l, b in zip(ls, betas)]
-    labels = [f"{f:g} Hz" for f in frequencies_hz]
     rec.log(f"/bench/{component}/axes/sweep",
-            rr.LineStrips3D(strips, colors=(20, 20, 20), radii=0.0015, labels=labels),
-            static=True)
+            rr.LineStrips3D(strips, colors=(20, 20, 20), radii=0.0015), static=True)
+    rec.log(f"/bench/{component}/axes/sweep/frequencies", rr.TextDocument(
+        "Sweep axes (thin black lines) at " + ", ".join(f"{f:.3g}" for f in frequencies_hz)
+        + " Hz."), static=True)
     return len(strips)
 
 
