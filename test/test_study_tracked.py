@@ -105,6 +105,7 @@ def test_tracked_pencil_study_matches_scipy_generalized_eig():
                                        atol=1e-9)
 
 
+@pytest.mark.slow
 def test_local_process_cluster_single_thread_blas_and_identical_results():
     """A study of arrays only (picklable by reference) on a 1-process LocalCluster."""
     import os
@@ -120,7 +121,7 @@ def test_local_process_cluster_single_thread_blas_and_identical_results():
     here = run_study(study, design, progress=False, block_size=16)
     with local_cluster(n_workers=1) as cluster, Client(cluster) as client:
         env = client.run(os.getenv, "OPENBLAS_NUM_THREADS")
-        there = run_study(study, design, scheduler=client, progress=False, block_size=16)
+        there = run_study(study, design, scheduler=cluster, progress=False, block_size=16)
     assert list(env.values()) == ["1"]
     for name, values in here.outputs.items():
         np.testing.assert_array_equal(there.outputs[name], values)
