@@ -1,23 +1,32 @@
 """``motoflex eig``: eigenvalues of a vehicle over speed, with weave, wobble and capsize.
 
     motoflex eig --vehicle FILE (--speeds V... | --range-kmh LO HI --step S) [--json] [--plot DIR]
+                 [--flex VARIANT] [--components frame,front_assembly,swingarm]
+                 [--identified FILE]
 
 Speeds after --speeds are in m/s; --range-kmh gives km/h (inclusive of HI when it falls on the
 step). --json prints {"speeds_mps", "eigenvalues" ([[re, im], ...] per speed, 1/s),
 "modes": {"weave", "wobble", "capsize": [[re, im] | null per speed]}}. --plot DIR writes the
 root locus and weave/wobble frequency and real part against speed (PNG).
+
+--flex puts the components' flexibility into the rigid vehicle: ``flexible`` (Craig-Bampton
+superelements of the clamped components) or a lumped variant (state_of_the_art, static,
+torsion, bending, decomposed; Passigato et al. 2023, Sect. 5.2) identified by the bench (run
+offline unless --identified gives a result file of ``motoflex identify --out``).
 """
 import math
 import sys
 
 import numpy as np
 
+from motoflex_ros.cli.inputs import identification_results, motorcycle_components
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.config import resolve_config
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import MODE_NAMES, modal_sweep
+from motoflex_ros.vehicle.variants import FLEX_CHOICES, build_variant, parse_components
 
 __all__ = ["register", "run", "requested_speeds", "sweep_to_json"]
 
@@ -39,6 +48,12 @@ def register(subparsers):
     parser.add_argument("--step", type=float, help="step of --range-kmh [km/h]")
     parser.add_argument("--json", action="store_true", help="print JSON only")
     parser.add_argument("--plot", metavar="DIR", help="write root locus and mode plots (PNG)")
+    parser.add_argument("--flex", default="rigid", choices=FLEX_CHOICES,
+                        help="rigid (default), flexible or a lumped stiffness variant")
+    parser.add_argument("--components", default="all",
+                        help="comma-separated components made flexible (default all)")
+    parser.add_argument("--identified", metavar="FILE",
+                        help="identification results (YAML/JSON of motoflex identify --out)")
     parser.set_defaults(func=run)
 
 
@@ -91,11 +106,21 @@ def _print_table(sweep, stream):
                  "capsize 1/s"], rows, stream)
 
 
+def variant_of(model, args):
+    """The vehicle with the flexibility asked for by --flex/--components/--identified."""
+    if args.flex == "rigid":
+        return model
+    names = parse_components(args.components)
+    components = motorcycle_components(names)
+    identified = {}
+    if args.flex != "flexible":
+        identified = identification_results(args.identified, names)
+    return build_variant(model, args.flex, names, identified, components)
+
+
 def run(args):
     speeds = requested_speeds(args)
-    model = load_vehicle(resolve_config("vehicles", args.vehicle))
-    # variants (lumped joints, Craig-Bampton superelements) are applied to `model` here, before
-    # linearization, when --flex is added by the accuracy issue
+    model = variant_of(load_vehicle(resolve_config("vehicles", args.vehicle)), args)
     sweep = modal_sweep(linearize(model), speeds)
     if args.plot:
         from motoflex_ros.plots.vehicle import plot_modal_sweep

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from motoflex_ros.cli.output import emit_json, print_table
+from motoflex_ros.cli.study_accuracy import register_accuracy
 from motoflex_ros.config import load_yaml, resolve_config
 from motoflex_ros.errors import ConfigError
 
@@ -49,7 +50,7 @@ def _register_sensitivity(sub):
 
 
 # study kinds: name -> function adding its parser (the accuracy study adds its own here)
-SUBCOMMANDS = {"sensitivity": _register_sensitivity}
+SUBCOMMANDS = {"sensitivity": _register_sensitivity, "accuracy": register_accuracy}
 
 
 def register(subparsers):

@@ -20,7 +20,8 @@ from motoflex_ros.vehicle.contact import GROUND_NORMAL, contact_state
 from motoflex_ros.vehicle.kinematics import compile_tree, frame_states
 from motoflex_ros.vehicle.spatial import cross
 
-__all__ = ["VehicleSystem", "build_system", "residual", "generalized_force_residual"]
+__all__ = ["VehicleSystem", "build_system", "residual", "positions",
+           "generalized_force_residual"]
 
 _NEWTON_STEPS = 3
 
@@ -155,18 +156,26 @@ def _joint_spring_dampers(system, q, u):
     return np.array([c.stiffness * q[k] + c.damping * u[k] for k, c in enumerate(coords)])
 
 
-def residual(system, xdot, x, v, applied=None):
+def positions(system, x):
+    """All coordinates q at the state x: independent ones from x, height and pitch of the base
+    from the contact-height constraints (fixed-count Newton)."""
+    nq = len(system.indep_pos)
+    q = np.zeros(len(system.tree.coordinates), np.result_type(x, float))
+    q[list(system.indep_pos)] = x[:nq]
+    return _solve_positions(system, q)
+
+
+def residual(system, xdot, x, v, applied=None, q=None):
     """Residual R(x', x; v) of the equations of motion (module docstring); v [m/s] > 0.
 
     applied: optional generalised forces on the coordinates (e.g. a steer torque [N m] on the
-    steer joint's entry), subtracted like every applied force.
+    steer joint's entry), subtracted like every applied force. q: the coordinates at x when
+    already known (``positions(system, x)``), e.g. for many x' at one x.
     """
     n = len(system.tree.coordinates)
     nq, nu = len(system.indep_pos), len(system.indep_speed)
     dtype = np.result_type(xdot, x, float)
-    q = np.zeros(n, dtype)
-    q[list(system.indep_pos)] = x[:nq]
-    q = _solve_positions(system, q)
+    q = positions(system, x) if q is None else q
     known = np.zeros(n, dtype)
     known[0] = v
     known[list(system.indep_speed)] = x[nq:nq + nu]

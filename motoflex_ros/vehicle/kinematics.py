@@ -138,6 +138,9 @@ def compile_tree(model):
 
 
 def _child_state(coord, k, parent, q, u, heading):
+    if coord.kind == "modal":
+        # a modal amplitude of a superelement moves no frame: its Jacobian columns stay zero
+        return parent
     a_w = parent.R @ coord.axis
     a_dot = cross(parent.w, a_w)
     if coord.kind == "heading":

@@ -13,7 +13,7 @@ import numpy as np
 import scipy.linalg
 
 from motoflex_ros.errors import ModelError
-from motoflex_ros.vehicle.dynamics import build_system, residual
+from motoflex_ros.vehicle.dynamics import build_system, positions, residual
 
 __all__ = ["LinearVehicle", "SecondOrderMatrices", "linearize_at", "linearize"]
 
@@ -39,11 +39,15 @@ def linearize_at(system, v):
     n = system.n_states
     E, A = np.zeros((n, n)), np.zeros((n, n))
     zero = np.zeros(n, complex)
+    # the coordinates depend on the position states only: solve them once for every column
+    # that perturbs x' or a speed or tyre state
+    q_ref = positions(system, zero)
+    n_pos = len(system.indep_pos)
     for k in range(n):
         step = np.zeros(n, complex)
         step[k] = 1j * _STEP
-        E[:, k] = residual(system, step, zero, v).imag / _STEP
-        A[:, k] = -residual(system, zero, step, v).imag / _STEP
+        E[:, k] = residual(system, step, zero, v, q=q_ref).imag / _STEP
+        A[:, k] = -residual(system, zero, step, v, q=None if k < n_pos else q_ref).imag / _STEP
     return E, A
 
 

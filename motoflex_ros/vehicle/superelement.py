@@ -140,8 +140,8 @@ def chain_parts(se):
 
     End DOFs: prismatic along x, y, z then revolute about x, y, z, all through the loaded end
     q0 (exact to first order: the linearization sees u_end and theta_end). Modal amplitudes:
-    prismatic joints of zero axis (coordinates that move no frame); their inertia, stiffness
-    and damping come from the element's residual.
+    'modal' joints (coordinates that move no frame); their inertia, stiffness and damping come
+    from the element's residual.
     """
     names = coordinate_names(se)
     bodies, joints = [], []
@@ -153,7 +153,7 @@ def chain_parts(se):
         elif i < 6:
             kind, axis = "revolute", _UNIT[i - 3]
         else:
-            kind, axis = "prismatic", np.zeros(3)
+            kind, axis = "modal", np.zeros(3)
             parent = se.parent
         bodies.append(Body(child, 0.0, se.end_point.copy(), np.zeros((3, 3))))
         joints.append(Joint(name, kind, parent, child, axis, se.end_point.copy()))
