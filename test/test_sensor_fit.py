@@ -104,3 +104,18 @@ def test_sensor_latency_delays_delivery():
                  for i in range(6)]
     assert delivered == [[], [], [], [0], [1], [2]]
     assert [m.index for m in sensor.flush()] == [3, 4, 5]
+
+
+def test_capture_from_true_markers_is_bit_identical_roundtrip():
+    """A ROS node that receives the simulator's true markers gets exactly the offline result."""
+    settings = SensorSettings(latency_s=0.0)
+    by_pose, by_markers = MarkerSensor(settings, Q0, seed=4), MarkerSensor(settings, Q0, seed=4)
+    rng = np.random.default_rng(5)
+    for i in range(20):
+        u, theta = random_pose(rng, 1e-3)
+        rot = rotation_from_vector(theta)
+        a = by_pose.capture(i, 1e-3 * i, Q0 + u, rot)[0]
+        b = by_markers.capture_markers(i, 1e-3 * i,
+                                       marker_positions(Q0 + u, rot, Q0, DEFAULT_MARKERS))[0]
+        assert np.array_equal(a.markers, b.markers)
+        assert np.array_equal(a.pose_vector(Q0), b.pose_vector(Q0))

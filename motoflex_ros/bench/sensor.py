@@ -140,9 +140,10 @@ def fit_pose(measured, reference, q0):
 class MarkerSensor:
     """Stage object: turns true poses of the loaded end into delayed, noisy measurements.
 
-    ``capture(index, t, position, rotation)`` measures one sample and returns the measurements
-    whose latency has elapsed by time ``t`` (a list, usually of one); ``flush()`` returns the
-    rest at the end of a campaign.
+    ``capture(index, t, position, rotation)`` (or ``capture_markers(index, t, true_markers)``,
+    which gives bit-identical results from the true marker positions a simulator publishes)
+    measures one sample and returns the measurements whose latency has elapsed by time ``t``
+    (a list, usually of one); ``flush()`` returns the rest at the end of a campaign.
     """
 
     def __init__(self, settings, q0, seed=0):
@@ -155,8 +156,13 @@ class MarkerSensor:
 
     def measure_markers(self, position, rotation):
         """True markers plus noise, rounded to the resolution (consumes the generator) [m]."""
-        true = marker_positions(position, rotation, self.q0, self.offsets)
-        noisy = true + self.settings.noise_m * self.rng.standard_normal(true.shape)
+        return self.add_noise(marker_positions(position, rotation, self.q0, self.offsets))
+
+    def add_noise(self, true_markers):
+        """Measured markers from true ones: noise, then rounding (consumes the generator) [m]."""
+        true_markers = np.asarray(true_markers, float)
+        noisy = true_markers + self.settings.noise_m * self.rng.standard_normal(
+            true_markers.shape)
         res = self.settings.resolution_m
         return np.round(noisy / res) * res if res > 0 else noisy
 
@@ -165,14 +171,20 @@ class MarkerSensor:
         position, rotation = fit_pose(markers, self.reference, self.q0)
         return Measurement(index, float(stamp), markers, position, rotation)
 
-    def capture(self, index, t, position, rotation):
-        """Capture sample ``index`` at time t [s]; return the measurements now delivered."""
-        markers = self.measure_markers(position, rotation)
-        self._queue.append(self.measurement(index, t, markers))
+    def capture_markers(self, index, t, true_markers):
+        """Capture sample ``index`` at time t [s] from the true marker positions (n, 3) [m];
+        return the measurements now delivered (those whose latency has elapsed)."""
+        self._queue.append(self.measurement(index, t, self.add_noise(true_markers)))
         ready = []
         while self._queue and self._queue[0].stamp + self.settings.latency_s <= t + 1e-12:
             ready.append(self._queue.popleft())
         return ready
+
+    def capture(self, index, t, position, rotation):
+        """Capture sample ``index`` at time t [s] of a loaded end at (position [m], rotation);
+        the same as :meth:`capture_markers` of its true markers."""
+        return self.capture_markers(index, t, marker_positions(position, rotation, self.q0,
+                                                               self.offsets))
 
     def flush(self):
         """All measurements still waiting for their latency to elapse."""
