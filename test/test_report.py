@@ -218,3 +218,12 @@ def test_report_reads_campaign_identification_json(tmp_path):
         assert float(cell["data-value"]) == _at(identify, cell["data-path"])
     assert ("identification.json", "frame/k_t") in {(c["data-json"], c["data-path"])
                                                     for c in cells}
+
+
+def test_report_passes_the_runs_identification_to_the_verbs(tmp_path):
+    from motoflex_ros.report.sources import IDENTIFIED, _arguments
+    args = ("study", "accuracy", "--identified", IDENTIFIED)
+    assert _arguments(tmp_path, args) == ["study", "accuracy"]
+    (tmp_path / "identification.json").write_text("{}")
+    assert _arguments(tmp_path, args) == ["study", "accuracy", "--identified",
+                                          str(tmp_path / "identification.json")]

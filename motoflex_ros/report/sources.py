@@ -18,6 +18,8 @@ from motoflex_ros.cli.output import atomic_write_text, emit_json
 __all__ = ["Source", "SOURCES", "RunData", "load_run_data", "FIG9_VARIANTS"]
 
 SWEEP = ["--range-kmh", "40", "210", "--step", "10"]
+IDENTIFIED = "{identified}"     # replaced by the run's identification file (dropped if none)
+IDENTIFICATION_FILES = ("identification.json", "identify.json")
 FIG9_VARIANTS = ("flexible", "state_of_the_art", "static", "torsion", "bending")
 
 
@@ -36,13 +38,14 @@ SOURCES = (
     Source("components", "components.json", ("components",)),
     Source("identify", "identify.json", ("identify",), ("identification.json",)),
     Source("eig", "eig.json", ("eig", "--vehicle", "touring", *SWEEP)),
-    Source("accuracy", "accuracy.json", ("study", "accuracy")),
-    Source("sensitivity", "sensitivity.json", ("study", "sensitivity")),
+    Source("accuracy", "accuracy.json", ("study", "accuracy", "--identified", IDENTIFIED)),
+    Source("sensitivity", "sensitivity.json", ("study", "sensitivity", "--identified",
+                                               IDENTIFIED)),
     Source("whipple", "whipple.json", ("eig", "--vehicle", "whipple_benchmark", "--speeds", "5",
                                        "10")),
     *(Source(f"fig9_{v}", f"eig_front_assembly_{v}.json",
              ("eig", "--vehicle", "touring", "--flex", v, "--components", "front_assembly",
-              *SWEEP)) for v in FIG9_VARIANTS),
+              "--identified", IDENTIFIED, *SWEEP)) for v in FIG9_VARIANTS),
 )
 
 
@@ -67,9 +70,25 @@ def _read(path):
         return None, f"{path.name} unreadable ({exc})"
 
 
-def _compute(source):
+def _arguments(folder, args):
+    """The verb's arguments with the run's identification file in place of IDENTIFIED."""
+    found = [folder / n for n in IDENTIFICATION_FILES if (folder / n).is_file()]
+    out = []
+    for arg in args:
+        if arg == IDENTIFIED:
+            if found:
+                out.append(str(found[0]))
+            else:
+                out.pop()       # no file: drop the option, the verb uses its default
+        else:
+            out.append(arg)
+    return out
+
+
+def _compute(folder, source):
     """Run ``motoflex ARGS --json``; (data, None) or (None, reason)."""
-    cmd = [sys.executable, "-m", "motoflex_ros.cli.main", *source.args, "--json"]
+    cmd = [sys.executable, "-m", "motoflex_ros.cli.main", *_arguments(folder, source.args),
+           "--json"]
     result = subprocess.run(cmd, capture_output=True, text=True)
     if result.returncode != 0:
         lines = (result.stderr or result.stdout).strip().splitlines()
@@ -77,7 +96,7 @@ def _compute(source):
     try:
         return json.loads(result.stdout), None
     except json.JSONDecodeError as exc:
-        return None, f"'motoflex {' '.join(source.args)} --json' printed no JSON ({exc})"
+        return None, f"'{' '.join(cmd[3:])}' printed no JSON ({exc})"
 
 
 def _save(folder, source, data):
@@ -94,8 +113,9 @@ def _load_one(folder, source, compute, run):
         data, reason = _read(saved[0])
         origin = f"{saved[0].name} (saved)"
     elif compute:
-        data, reason = _compute(source)
-        origin = f"motoflex {' '.join(source.args)} --json (computed now, saved as {source.file})"
+        data, reason = _compute(folder, source)
+        origin = (f"motoflex {' '.join(_arguments(folder, source.args))} --json (computed now, "
+                  f"saved as {source.file})")
         if data is not None:
             _save(folder, source, data)
     else:
