@@ -21,7 +21,7 @@ def _console_scripts():
 
 
 NODES = ("sim_clock", "recorder", "bag_replay", "load_actuator", "component_simulator",
-         "displacement_sensor", "identification")
+         "displacement_sensor", "identification", "vehicle_simulator")
 
 
 @pytest.mark.slow
