@@ -172,3 +172,39 @@ def test_ros_domains_isolated(tmp_path):
         assert [t.name for t in info.topics] == ["/clock"]
         steps = round(duration / 0.001) + 1
         assert _clock_times(bag) == [1_000_000 * k for k in range(steps)]
+
+
+def test_bad_protocol_file_clear_error(tmp_path, env):
+    """A protocol file that does not exist: the node and the campaign name it; nothing written."""
+    proc = _node("load_actuator", env, f"protocol:={tmp_path / 'nope.yaml'}")
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 2 and "nope.yaml: file not found" in err
+    cli = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "campaign",
+                          "--components", "swingarm", "--protocol", str(tmp_path / "nope.yaml"),
+                          "--out", str(tmp_path / "run")], capture_output=True, text=True,
+                         timeout=120, env=env)
+    assert cli.returncode == 2 and "nope.yaml: file not found" in cli.stderr
+    assert "Traceback" not in cli.stderr + err
+    assert not (tmp_path / "run").exists()
+
+
+def test_nodes_sequence_gap_reported(tmp_path, env):
+    """DDS publication sequence numbers 1, 2, 5, 6: two messages lost, reported by topic."""
+    import rclpy
+    from std_msgs.msg import String
+
+    from motoflex_ros.nodes.runtime import RigNode
+    context = rclpy.Context()
+    rclpy.init(args=[], context=context, domain_id=int(env["ROS_DOMAIN_ID"]))
+    try:
+        node = RigNode.__new__(RigNode)
+        rclpy.node.Node.__init__(node, "gap_probe", context=context)
+        node._checked, node._last_seq, node.gaps = set(), {}, 0
+        sub = node.create_subscription(String, "/probe", lambda m: None, 10)
+        node._checked.add(sub)
+        for seq in (1, 2, 5, 6):
+            node.check_sequence(sub, {"publication_sequence_number": seq})
+        assert node.gaps == 2
+        node.destroy_node()
+    finally:
+        rclpy.shutdown(context=context)
