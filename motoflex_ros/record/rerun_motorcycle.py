@@ -21,6 +21,7 @@ from motoflex_ros.record import rerun_vehicle as rv
 from motoflex_ros.record.rerun_log import TIMELINE
 
 __all__ = ["log_motorcycle", "vehicle_model", "ellipsoid_half_sizes", "mode_coordinates",
+           "mode_rows",
            "MODE_AMPLITUDE_RAD", "ROAD_AMPLITUDE_RAD", "MODE_FRAMES_PER_CYCLE", "MODE_CYCLES"]
 
 MODE_AMPLITUDE_RAD = 0.15
@@ -112,13 +113,22 @@ def _log_animated(rec, base, shapes, tree, q_rows, timeline, times):
             translation=translations[frame], mat3x3=rotations[frame]))
 
 
-def _log_mode(rec, lin, shapes, mode, speed, eigenvalue, offset):
+def mode_rows(lin, speed, eigenvalue):
+    """Coordinates q (n_frames, n) of the animation of a mode, and its eigenvalue [1/s].
+
+    q(phi) = Re(s q_c e^{i phi}) over :data:`MODE_CYCLES` cycles; s scales and turns q_c so the
+    largest angle is :data:`MODE_AMPLITUDE_RAD` and real at phi = 0.
+    """
     q_c, lam = mode_coordinates(lin, speed, eigenvalue)
     angles = _angle_indices(lin.system.tree)
     biggest = angles[int(np.argmax(np.abs(q_c[angles])))]
     q_c = q_c * MODE_AMPLITUDE_RAD * np.exp(-1j * np.angle(q_c[biggest])) / abs(q_c[biggest])
     phase = 2 * np.pi * np.arange(MODE_FRAMES_PER_CYCLE * MODE_CYCLES) / MODE_FRAMES_PER_CYCLE
-    rows = (q_c[None, :] * np.exp(1j * phase)[:, None]).real
+    return (q_c[None, :] * np.exp(1j * phase)[:, None]).real, lam
+
+
+def _log_mode(rec, lin, shapes, mode, speed, eigenvalue, offset):
+    rows, lam = mode_rows(lin, speed, eigenvalue)
     base = f"/vehicle/modes/{mode}"
     rec.log(base, rr.Transform3D(translation=offset), static=True)
     rec.log(f"{base}/description", rr.TextDocument(
