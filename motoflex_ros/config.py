@@ -160,8 +160,8 @@ def validate(value, spec, source, key=""):
     return value
 
 
-class _Loader(yaml.SafeLoader):
-    """Safe loader that also reads YAML 1.2 floats without a dot or exponent sign (2.1e11)."""
+class _Loader(getattr(yaml, "CSafeLoader", yaml.SafeLoader)):
+    """Safe loader (libyaml when present) that also reads floats like 2.1e11 (YAML 1.2)."""
 
 
 _Loader.add_implicit_resolver(

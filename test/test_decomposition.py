@@ -30,7 +30,7 @@ def test_decomposition_satisfies_eq12_as_printed():
 
 
 def test_decomposition_invariant_to_axis_half_turn():
-    """beta is defined modulo pi (eq. 6); with b from eq. (7) the split must not change."""
+    """The axis angle is defined modulo pi (eq. 6); with b from eq. (7) the split is the same."""
     args = dict(k=1.0e5, beta=1.2, b=0.3, beta_t=0.2, b_t=0.1, beta_b=1.8, b_b=0.4)
     ref = decompose_stiffness(**args)
     flipped = decompose_stiffness(**{**args, "beta_t": 0.2 + np.pi, "b_t": -0.1})

@@ -75,10 +75,20 @@ def residuals(name, data, weights):
     s, red = evaluate(name, data)
     values = [s.f_torsion_hz / t1["torsion"], s.f_bending_hz / t1["bending"],
               s.k_static / t2["k"], s.k_t / t2["k_t"], s.k_b / t2["k_b"]]
-    res = [w * (np.log(v) if np.isfinite(v) and v > 0 else 5.0) for v, w in zip(values, weights)]
+    res = [w * (np.log(v) if np.isfinite(v) and v > 0 else 5.0)
+           for v, w in zip(values, weights[:5])]
+    # Sect. 5.1 (Figs. 5-7): torsion axis nearly parallel to O-q0, bending axis nearly
+    # perpendicular to it; weights[5] pulls the mode axes towards that (0 = off)
+    axis_weight = weights[5] if len(weights) > 5 else 0.0
+    for ax, target in ((s.torsion_axis, 0.0), (s.bending_axis, np.pi / 2)):
+        if ax is None:
+            res.append(5.0 * axis_weight)
+            continue
+        off = abs(np.angle(np.exp(2j * (ax.beta - target)))) / 2   # distance modulo pi
+        res.append(axis_weight * off / (np.pi / 4))
     first = red.frequency(FIRST_MODE[name])
     lowest = red.frequencies_hz[0]
-    res.append(3.0 * max(0.0, np.log(first / lowest)) if np.isfinite(first) else 5.0)
+    res.append(20.0 * max(0.0, np.log(first / lowest)) if np.isfinite(first) else 5.0)
     return np.array(res), s
 
 

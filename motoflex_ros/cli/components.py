@@ -57,8 +57,10 @@ def _fmt(x, spec):
 
 
 def _rows(summaries):
-    from motoflex_ros.structures.published import (paper_table1_eigenfrequencies,
-                                                    paper_table2_stiffness)
+    from motoflex_ros.structures.published import (
+        paper_table1_eigenfrequencies,
+        paper_table2_stiffness,
+    )
     t1, t2 = paper_table1_eigenfrequencies(), paper_table2_stiffness()
     rows = []
     for s in summaries:

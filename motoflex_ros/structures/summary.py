@@ -37,6 +37,9 @@ def _split(static, t_axis, b_axis):
     if t_axis is None or b_axis is None:
         return float("nan"), float("nan")
     a = static.axis
+    values = (static.k, a.beta, a.b, t_axis.beta, t_axis.b, b_axis.beta, b_axis.b)
+    if not np.all(np.isfinite(values)):
+        return float("nan"), float("nan")
     try:
         s = decompose_stiffness(static.k, a.beta, a.b, t_axis.beta, t_axis.b, b_axis.beta,
                                 b_axis.b)
