@@ -55,3 +55,19 @@ def test_marker_positions_of_rigid_rotation_keep_distances_roundtrip():
     for i, j in itertools.combinations(range(len(ref)), 2):
         assert np.linalg.norm(moved[i] - moved[j]) == pytest.approx(
             np.linalg.norm(ref[i] - ref[j]), abs=1e-15)
+
+
+def test_running_mean_across_beta_wrap_analytic():
+    """Peaks on both sides of beta = 0 (one reported near pi): the mean axis is the mean of
+    the unwrapped angles, and b = (L - l) sin(beta) follows the unwrapping (eq. 7)."""
+    from motoflex_ros.identify.peaks import RunningMean, wrap_axis
+    length, l = 0.8, 0.3
+    mean = RunningMean(length, 1e-3, 1e-3, 2)
+    for beta in (0.0015, -0.0005):
+        wrapped, b = wrap_axis(beta, (length - l) * np.sin(beta))
+        assert 0.0 <= wrapped < np.pi and b >= 0.0      # as eqs. (6)-(7) report them
+        mean.add(l, wrapped, b)
+    beta_mean, b_mean = mean.means[-1]
+    assert beta_mean == pytest.approx(0.0005, abs=1e-15)
+    assert b_mean == pytest.approx((length - l) * (np.sin(0.0015) + np.sin(-0.0005)) / 2,
+                                   rel=1e-12)

@@ -21,7 +21,7 @@ from motoflex_ros.bench.sensor import rotation_from_vector
 from motoflex_ros.identify.axis import deformation_axis
 
 __all__ = ["fit_sine", "peak_poses", "axis_of_pose", "RunningMean", "unwrap_angle",
-           "joint_distance_from_arm"]
+           "unwrap_axis", "wrap_axis", "joint_distance_from_arm"]
 
 LATERAL = 1  # y_q channel of a pose vector (q - q0, theta)
 
@@ -52,6 +52,20 @@ def axis_of_pose(pose, q0):
 def unwrap_angle(beta, reference):
     """Angle beta [rad] shifted by a multiple of pi into (reference - pi/2, reference + pi/2]."""
     return reference + np.mod(beta - reference + np.pi / 2, np.pi) - np.pi / 2
+
+
+def unwrap_axis(beta, b, reference):
+    """(beta, b) with beta unwrapped as in :func:`unwrap_angle`; b = (L - l) sin(beta) changes
+    sign with every pi added to beta, so that eq. (7) still holds."""
+    unwrapped = unwrap_angle(beta, reference)
+    turns = int(round((unwrapped - beta) / np.pi))
+    return unwrapped, b * (-1.0) ** turns
+
+
+def wrap_axis(beta, b):
+    """(beta, b) with beta wrapped into [0, pi) and b following it (eq. 7)."""
+    wrapped = float(np.mod(beta, np.pi))
+    return wrapped, b * (-1.0) ** int(round((wrapped - beta) / np.pi))
 
 
 def joint_distance_from_arm(beta, b, length):
@@ -85,7 +99,7 @@ class RunningMean:
     def add(self, l, beta, b):
         """Add one peak's (l [m], beta [rad], b [m])."""
         if self.values:
-            beta = unwrap_angle(beta, self.values[0][1])
+            beta, b = unwrap_axis(beta, b, self.values[0][1])
         self.values.append((l, beta, b))
         self.means.append(np.mean(np.array(self.values)[:, 1:], axis=0))
 

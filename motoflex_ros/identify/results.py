@@ -15,7 +15,7 @@ from motoflex_ros.errors import ProtocolError
 from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.decay import match_pole
 from motoflex_ros.identify.decomposition import decompose_stiffness
-from motoflex_ros.identify.peaks import axis_of_pose, unwrap_angle
+from motoflex_ros.identify.peaks import axis_of_pose, unwrap_axis, wrap_axis
 from motoflex_ros.identify.stiffness import modal_damping, modal_inertia, static_damping
 from motoflex_ros.identify.uncertainty import LEVEL, interval, propagate
 
@@ -65,8 +65,8 @@ class ComponentIdentification:
 
 def _static_values(pose, force, q0, reference_beta):
     axis = axis_of_pose(pose, q0)
-    beta = unwrap_angle(axis.beta, reference_beta)
-    return np.array([axis.l, beta, axis.b, axis_stiffness(force, pose[1], axis.b)])
+    beta, b = unwrap_axis(axis.beta, axis.b, reference_beta)
+    return np.array([axis.l, beta, b, axis_stiffness(force, pose[1], b)])
 
 
 def _pose_steps(pose):
@@ -83,7 +83,7 @@ def static_model(reading, q0):
     names = ("l", "beta", "b", "k")
     ci = {n: interval(v, cov[i, i]) for i, (n, v) in enumerate(zip(names, values))}
     values = dict(zip(names, map(float, values)))
-    values["beta"] = float(np.mod(values["beta"], np.pi))
+    values["beta"], values["b"] = wrap_axis(values["beta"], values["b"])
     values["c"] = static_damping(values["k"])
     ci["c"] = [static_damping(x) for x in ci["k"]]
     return AxisModel(values, ci, {"n_samples": reading.n_samples}), cov
@@ -92,7 +92,7 @@ def static_model(reading, q0):
 def _harmonic_axis(reading):
     mean, cov = reading.mean()
     mean = mean.copy()
-    mean[1] = float(np.mod(mean[1], np.pi))
+    mean[1], mean[2] = wrap_axis(mean[1], mean[2])
     dof = max(reading.n_peaks // 2 - 1, 1)
     ci = {n: interval(mean[i], cov[i, i], dof) for i, n in enumerate(("l", "beta", "b"))}
     info = {"n_peaks": reading.n_peaks, "n_samples": reading.n_samples,
