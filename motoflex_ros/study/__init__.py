@@ -1,7 +1,8 @@
 """Studies on top of the vehicle engine (Passigato et al. 2023, Sects. 4.3, 5.2, 5.3).
 
-stability_index (eqs. 13-15), factorial designs, anova, correlation (eqs. 16-17), accuracy
-(eq. 18), continuation (tracking modes over speed), tracked (the vehicle-to-study plug),
-runner (in process or on Dask) and sensitivity (the whole analysis of Sect. 5.3).
-Submodules are imported explicitly; this package imports nothing heavy.
+stability_index (eqs. 13-15), factorial (designs), anova, correlation (eqs. 16-17), accuracy
+(eq. 18), continuation (tracking modes over speed), tracked (the vehicle-to-study plug: study
+functions from state matrices or linear stiffness pencils), runner (in process or on Dask),
+sensitivity (the analysis of Sect. 5.3) and motorcycle (that study on the engine's decomposed
+lumped motorcycle). Submodules are imported explicitly; this package imports nothing heavy.
 """
