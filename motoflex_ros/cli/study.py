@@ -18,9 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
+from motoflex_ros.cli.inputs import identification_results
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.cli.study_accuracy import register_accuracy
-from motoflex_ros.config import load_yaml, resolve_config
+from motoflex_ros.config import resolve_config
 from motoflex_ros.errors import ConfigError
 
 __all__ = ["register", "run", "SUBCOMMANDS"]
@@ -66,19 +67,6 @@ def register(subparsers):
 def run(args):
     """Dispatch to the chosen study (argparse sets ``func`` per subcommand)."""
     return args.func(args)
-
-
-def _identification(args):
-    if args.identified:
-        data = load_yaml(Path(args.identified))
-        if not isinstance(data, dict):
-            raise ConfigError(args.identified, "", "expected a mapping {component: results}")
-        return data
-    from motoflex_ros.bench.campaign import identify_components
-
-    print("running the bench identification ...", file=sys.stderr)
-    runs = identify_components(list(_COMPONENTS))
-    return {name: run.identification.to_dict() for name, (_, run) in runs.items()}
 
 
 def _with_table2(identified):
@@ -137,7 +125,7 @@ def run_sensitivity_verb(args):
     full_factorial(PAPER_TABLE2_NOMINAL, args.levels, args.rel_range)  # check before the work
     speeds = _speeds(args.step_kmh)
     vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
-    identified = _identification(args)
+    identified = identification_results(args.identified)
     if args.nominal == "table2":
         identified = _with_table2(identified)
     components = {name: load_component(name) for name in _COMPONENTS}

@@ -6,7 +6,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from motoflex_ros.plots.vehicle import _save  # noqa: E402  (one atomic PNG writer)
+from motoflex_ros.plots.vehicle import save_png  # noqa: E402
 
 __all__ = ["plot_mode_curves"]
 
@@ -38,4 +38,4 @@ def plot_mode_curves(speeds, curves, path, models=("flexible", "state_of_the_art
             ax.grid(alpha=0.3)
     axes[0, 0].legend()
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)

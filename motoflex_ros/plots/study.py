@@ -6,7 +6,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from motoflex_ros.plots.vehicle import _save  # noqa: E402  (one atomic PNG writer)
+from motoflex_ros.plots.vehicle import save_png  # noqa: E402
 
 __all__ = ["plot_pearson_bars", "plot_accuracy_bars", "plot_stability_curves"]
 
@@ -44,7 +44,7 @@ def plot_pearson_bars(pearson, path, modes=("weave", "wobble"), ranges=("low", "
     np.atleast_1d(axes)[0].set_ylabel(r"Pearson coefficient $\rho_{IF}$ [-]")
     fig.suptitle("Stiffness up: positive = more damping of the mode (Fig. 10)")
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def plot_accuracy_bars(errors, path):
@@ -64,7 +64,7 @@ def plot_accuracy_bars(errors, path):
     np.atleast_1d(axes)[0].set_ylabel(r"$e_{RMS}$ [%]")
     np.atleast_1d(axes)[-1].legend()
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def plot_stability_curves(speeds, real_parts, path, labels=None, mode="weave"):
@@ -84,4 +84,4 @@ def plot_stability_curves(speeds, real_parts, path, labels=None, mode="weave"):
         ax.legend()
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)

@@ -10,10 +10,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-__all__ = ["plot_modal_sweep"]
+__all__ = ["plot_modal_sweep", "save_png"]
 
 
-def _save(fig, path):
+def save_png(fig, path):
+    """Write a figure as PNG through a temporary file and a rename; close it; return path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".png")
@@ -68,5 +69,5 @@ def _modes_over_speed(sweep, title):
 def plot_modal_sweep(sweep, folder, title):
     """Write root_locus.png and weave_wobble.png into ``folder``; returns the paths."""
     folder = Path(folder)
-    return [_save(_root_locus(sweep, title), folder / "root_locus.png"),
-            _save(_modes_over_speed(sweep, title), folder / "weave_wobble.png")]
+    return [save_png(_root_locus(sweep, title), folder / "root_locus.png"),
+            save_png(_modes_over_speed(sweep, title), folder / "weave_wobble.png")]
