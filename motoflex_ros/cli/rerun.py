@@ -23,7 +23,7 @@ def register(subparsers):
 def run(args):
     from motoflex_ros.record.rerun_bag import convert_bag
     vehicle = None if args.vehicle == "none" else args.vehicle
-    path, converted = convert_bag(args.bag, args.out, vehicle)
+    path, converted = convert_bag(args.bag, args.out, vehicle, progress=True)
     print(f"wrote {path}")
     for item in converted:
         print(f"  {item}")

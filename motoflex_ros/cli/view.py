@@ -65,7 +65,7 @@ def _recording(folder):
         if not (folder / "metadata.yaml").is_file():
             raise MotoflexError(f"{folder}: no {rrd.name} and no bag to make it from")
         print(f"converting the bag into {rrd} ...", file=sys.stderr)
-        convert_bag(folder)
+        convert_bag(folder, progress=True)
     return rrd
 
 

@@ -25,11 +25,13 @@ wall clock); ``sim_time`` is measured from the earliest stamp, which is 0 for a 
 import functools
 import json
 import re
+import sys
 from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
 import rerun as rr
+from tqdm import tqdm
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.record import rerun_log as rl
@@ -302,30 +304,50 @@ def _log_vehicle_topics(rec, grouped, info, t0):
         marker_topics
 
 
-def convert_bag(bag_dir, rrd_path=None, vehicle="touring"):
+def convert_bag(bag_dir, rrd_path=None, vehicle="touring", progress=False):
     """Write the rerun recording of a recorded run; returns (rrd path, what was converted).
 
     ``vehicle`` (a shipped vehicle name, or None to skip) adds the motorcycle from the vehicle
     engine: bodies, joint axes, weave and wobble animated, and the steer-pulse road test when
-    the bag has none. Raises :class:`~.mcap_bag.BagError` when ``bag_dir`` is not a bag.
+    the bag has none. ``progress`` shows a tqdm bar (stderr) over the steps. Raises
+    :class:`~.mcap_bag.BagError` when ``bag_dir`` is not a bag.
     """
     bag_dir = Path(bag_dir)
     info = bag_info(bag_dir)
+    bar = tqdm(total=5, desc="rerun", unit="step", disable=not progress, file=sys.stderr)
+    bar.set_postfix_str(f"reading {info.message_count} messages")
     grouped = _collect(bag_dir)
     t0 = min((t for samples in grouped.values() for t, _ in samples), default=0)
     bench = _bench_topics(grouped)
     identify = _read_json(bag_dir, "identification.json", "identify.json")
-    with rl.RunRecording(rrd_path or rrd_path_of(bag_dir), bag_dir.name,
-                         default_blueprint(sorted(bench))) as run:
-        converted = _log_bench_topics(run.stream, bench, t0)
-        if "/identification/results" in grouped:
-            _log_identification(run.stream, grouped["/identification/results"], t0, set(bench),
-                                draw_axes=identify is None)
-            converted.append("/identification/results")
-        converted += _log_vehicle_topics(run.stream, grouped, info, t0)
-        converted += _log_run_files(run.stream, bag_dir, identify, info.duration_ns * 1e-9,
-                                    log_values="/identification/results" not in grouped)
-        if vehicle:
-            converted += _log_vehicle_model(run.stream, vehicle, identify,
-                                            road_test="/vehicle/bodies" not in grouped)
+    with bar:
+        with rl.RunRecording(rrd_path or rrd_path_of(bag_dir), bag_dir.name,
+                             default_blueprint(sorted(bench))) as run:
+            converted = _log_all(run.stream, bar, grouped, bench, t0, info, identify, vehicle)
+            _step(bar, "writing")
+        bar.update(1)
     return run.path, sorted(converted)
+
+
+def _log_all(rec, bar, grouped, bench, t0, info, identify, vehicle):
+    """Log bench, identification, vehicle topics, the run's result files and the model."""
+    _step(bar, "bench")
+    converted = _log_bench_topics(rec, bench, t0)
+    _step(bar, "identification")
+    if "/identification/results" in grouped:
+        _log_identification(rec, grouped["/identification/results"], t0, set(bench),
+                            draw_axes=identify is None)
+        converted.append("/identification/results")
+    converted += _log_vehicle_topics(rec, grouped, info, t0)
+    converted += _log_run_files(rec, info.path, identify, info.duration_ns * 1e-9,
+                                log_values="/identification/results" not in grouped)
+    _step(bar, "vehicle model")
+    if vehicle:
+        converted += _log_vehicle_model(rec, vehicle, identify,
+                                        road_test="/vehicle/bodies" not in grouped)
+    return converted
+
+
+def _step(bar, name):
+    bar.update(1)
+    bar.set_postfix_str(name)

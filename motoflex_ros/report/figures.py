@@ -2,6 +2,7 @@
 deformation axes of Figs. 5-7, the front-assembly curves of Fig. 9, and Figs. 8 and 10 through
 :mod:`motoflex_ros.plots.study`. Imported lazily by ``motoflex report``.
 """
+import functools
 import io
 import tempfile
 from pathlib import Path
@@ -32,8 +33,9 @@ def png_of(fig):
     return buffer.getvalue()
 
 
+@functools.cache
 def component_model(name):
-    """(Component, ReducedComponent) of a shipped component."""
+    """(Component, ReducedComponent) of a shipped component (built once per process)."""
     from motoflex_ros.structures import load_component
     component = load_component(name)
     return component, component.clamped_reduced()
