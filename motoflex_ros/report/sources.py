@@ -5,6 +5,7 @@ Each source is one verb's ``--json`` output saved in the run folder under a fixe
 running the verb and saves what it got, so the report can always be traced to its JSON).
 A source that is neither saved nor computable is "not available" with the reason.
 """
+import io
 import json
 import subprocess
 import sys
@@ -100,7 +101,6 @@ def _compute(folder, source):
 
 
 def _save(folder, source, data):
-    import io
     buffer = io.StringIO()
     emit_json(data, buffer)
     atomic_write_text(folder / source.file, buffer.getvalue())
