@@ -1,0 +1,88 @@
+"""The accuracy study (Sect. 5.2, eq. 18, Figs 8-9): lumped variants against the flexible
+motorcycle, end to end through ``motoflex study accuracy`` and through the core."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from motoflex_ros.bench.campaign import identify_components
+from motoflex_ros.config import config_path
+from motoflex_ros.errors import ModelError
+from motoflex_ros.structures.components import load_component
+from motoflex_ros.study.accuracy import rms_error_percent
+from motoflex_ros.study.lumped_accuracy import (
+    ACCURACY_VARIANTS,
+    CASES,
+    QUANTITIES,
+    accuracy_study,
+    mode_errors,
+)
+from motoflex_ros.vehicle.model import load_vehicle
+
+SPEEDS = np.arange(40.0, 211.0, 10.0) / 3.6
+
+
+@pytest.fixture(scope="module")
+def identified_file(tmp_path_factory):
+    runs = identify_components(["frame", "front_assembly", "swingarm"])
+    data = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
+    path = tmp_path_factory.mktemp("ident") / "identification.json"
+    path.write_text(json.dumps(data))
+    return path
+
+
+def motoflex(*args):
+    return subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", *args],
+                          capture_output=True, text=True)
+
+
+@pytest.mark.slow
+def test_accuracy_verb_end_to_end(identified_file, tmp_path):
+    result = motoflex("study", "accuracy", "--identified", str(identified_file), "--json",
+                      "--step-kmh", "10", "--plot", str(tmp_path))
+    assert result.returncode == 0, result.stderr
+    table = json.loads(result.stdout)
+    assert set(table) == set(CASES)
+    for case in CASES:
+        assert set(table[case]) == set(ACCURACY_VARIANTS)
+        for variant in ACCURACY_VARIANTS:
+            values = table[case][variant]
+            assert set(values) == set(QUANTITIES)
+            assert all(np.isfinite(v) and v >= 0 for v in values.values())
+    assert (tmp_path / "fig8_accuracy.png").stat().st_size > 10_000
+    assert (tmp_path / "fig9_front_assembly.png").stat().st_size > 10_000
+
+
+def test_core_errors_are_eq18_of_the_tracked_curves(identified_file):
+    vehicle = load_vehicle(config_path("vehicles", "touring"))
+    components = {"swingarm": load_component("swingarm")}
+    identified = json.loads(identified_file.read_text())
+    result = accuracy_study(vehicle, components, identified, SPEEDS, cases=("swingarm",),
+                            variants=("static",))
+    curves = result.curves["swingarm"]
+    wobble_lu, wobble_fl = curves["static"]["wobble"], curves["flexible"]["wobble"]
+    hand = (np.sqrt(np.mean((wobble_lu.real - wobble_fl.real) ** 2))
+            / abs(np.mean(wobble_fl.real)) * 100)
+    assert result.errors["swingarm"]["static"]["wobble_re"] == pytest.approx(hand, rel=1e-12)
+    assert rms_error_percent(wobble_fl.real, wobble_fl.real) == 0.0
+    same = mode_errors(curves["flexible"], curves["flexible"], "self")
+    assert all(v == 0.0 for v in same.values())
+
+
+def test_untracked_mode_is_an_error():
+    curve = np.full(3, -1.0 + 10j)
+    lost = curve.copy()
+    lost[1] = np.nan
+    with pytest.raises(ModelError, match="wobble is not tracked"):
+        mode_errors({"weave": curve, "wobble": lost}, {"weave": curve, "wobble": curve}, "x")
+
+
+def test_accuracy_verb_bad_input(tmp_path):
+    assert motoflex("study", "accuracy", "--step-kmh", "0").returncode == 2
+    partial = tmp_path / "partial.json"
+    partial.write_text(json.dumps({"frame": {"static": {"l": 0.3}}}))
+    result = motoflex("study", "accuracy", "--identified", str(partial))
+    assert result.returncode == 2
+    assert "front_assembly" in result.stderr or "frame.static" in result.stderr
