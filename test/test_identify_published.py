@@ -1,0 +1,47 @@
+"""Table 2 of Passigato et al. (2023): k about the static axis and its split into k_t, k_b
+(eq. 12), from the default bench campaign (5 um sensor noise, seed 0), within 10 %.
+
+    Table 2 (N m/rad)      k          k_t        k_b
+    Frame               1.03e6     3.75e5     3.59e6
+    Front assembly      1.06e4     5.95e3     1.71e5
+    Swingarm            1.33e5     1.04e6     1.39e5
+"""
+import functools
+
+import pytest
+
+from motoflex_ros.bench.campaign import run_campaign, setup_campaign
+
+PAPER_TABLE2 = {"frame": {"k": 1.03e6, "k_t": 3.75e5, "k_b": 3.59e6},
+                "front_assembly": {"k": 1.06e4, "k_t": 5.95e3, "k_b": 1.71e5},
+                "swingarm": {"k": 1.33e5, "k_t": 1.04e6, "k_b": 1.39e5}}
+
+
+@functools.cache
+def identified(component):
+    result = run_campaign(setup_campaign(component), seed=0).identification
+    return {"k": result.static["k"], **result.split.values}
+
+
+@pytest.mark.parametrize("component", sorted(PAPER_TABLE2))
+def test_table2_static_stiffness_published(component):
+    assert identified(component)["k"] == pytest.approx(PAPER_TABLE2[component]["k"], rel=0.10)
+
+
+AXES_DIFFER = pytest.mark.xfail(strict=True, reason=(
+    "k_t / k_b follows from eq. (12b) and the axes alone, b_t sin(beta_t - beta) / (b_b "
+    "sin(beta - beta_b)); the components are calibrated to Table 1 and k, not to the axes of "
+    "Figs. 5-7, and their static axes lie 4-6 deg from where the paper's ratio needs them "
+    "(frame +0.105 rad, front assembly -0.104 rad, swingarm -0.064 rad; issue 4 report)"))
+
+
+@pytest.mark.parametrize("component, key", [
+    pytest.param("frame", "k_t", marks=AXES_DIFFER),
+    pytest.param("frame", "k_b", marks=AXES_DIFFER),
+    pytest.param("front_assembly", "k_t", marks=AXES_DIFFER),
+    ("front_assembly", "k_b"),
+    pytest.param("swingarm", "k_t", marks=AXES_DIFFER),
+    pytest.param("swingarm", "k_b", marks=AXES_DIFFER),
+])
+def test_table2_stiffness_split_published(component, key):
+    assert identified(component)[key] == pytest.approx(PAPER_TABLE2[component][key], rel=0.10)
