@@ -7,7 +7,10 @@ Printed (best of several repeats, all measured in this run):
 * build: A(v) = E(v)^-1 A(v) from the speed polynomial for 171 speeds (40-210 km/h, 1 km/h);
 * build + eigvals, and its ratio to eigvals alone on the same (171, n, n) stack;
 * the full modal sweep (eigenvectors on the tracking grid, MAC tracking of weave, wobble and
-  capsize) and its ratio to eigvals alone.
+  capsize) and its ratio to eigvals alone;
+* the same for the flexible touring motorcycle (three Craig-Bampton superelements; target <= 2),
+  and the wall time of the whole accuracy study (bench identification + 20 models; target
+  <= 30 s).
 
 Run: OPENBLAS_NUM_THREADS=1 python benchmarks/bench_vehicle.py
 """
@@ -37,9 +40,9 @@ def best_time(fun, repeats=REPEATS):
     return best
 
 
-def bench(name):
+def bench(name, model):
     start = time.perf_counter()
-    lin = linearize(load_vehicle(config_path("vehicles", name)))
+    lin = linearize(model)
     t_lin = time.perf_counter() - start
     stack = lin.state_matrix(SPEEDS)
     t_eig = best_time(lambda: np.linalg.eigvals(stack))
@@ -57,6 +60,36 @@ def bench(name):
           f"{t_sweep / t_eig:.2f}")
 
 
+def flexible_touring():
+    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.vehicle.lumped import COMPONENTS
+    from motoflex_ros.vehicle.variants import build_variant
+
+    components = {name: load_component(name) for name in COMPONENTS}
+    return build_variant(load_vehicle(config_path("vehicles", "touring")), "flexible",
+                         list(COMPONENTS), {}, components)
+
+
+def bench_accuracy_study():
+    from motoflex_ros.bench.campaign import identify_components
+    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.study.lumped_accuracy import accuracy_study
+    from motoflex_ros.vehicle.lumped import COMPONENTS
+
+    start = time.perf_counter()
+    runs = identify_components(list(COMPONENTS))
+    identified = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
+    t_ident = time.perf_counter() - start
+    components = {name: load_component(name) for name in COMPONENTS}
+    accuracy_study(load_vehicle(config_path("vehicles", "touring")), components, identified,
+                   np.unique(np.append(np.arange(40.0, 210.0, 5.0), 210.0)) / 3.6)
+    total = time.perf_counter() - start
+    print(f"accuracy study: {total:.1f} s wall (bench identification {t_ident:.1f} s, "
+          f"20 models {total - t_ident:.1f} s; target 30 s)")
+
+
 if __name__ == "__main__":
     for vehicle in ("touring", "whipple_benchmark"):
-        bench(vehicle)
+        bench(vehicle, load_vehicle(config_path("vehicles", vehicle)))
+    bench("touring+flexible", flexible_touring())
+    bench_accuracy_study()
