@@ -65,17 +65,16 @@ def test_noisy_interval_width_scales_with_noise():
 
 @pytest.mark.parametrize("component", ["frame", "front_assembly", "swingarm"])
 def test_free_decay_with_noise_within_one_percent_of_eigenvalue(component):
-    """Release from the preload with the default 5 um sensor: the first torsion/bending mode
-    (and the other one where the lateral load excites it enough to be found) within 1 %."""
+    """Release from the preload with the default 5 um sensor: the first torsion/bending mode,
+    which dominates the decay, within 1 % of its eigenvalue (eq. 9). (The other one can carry
+    a few percent of the decay's amplitude only, e.g. the frame's bending mode 6 %, beside
+    aliased higher modes; it is checked without noise in test_identify_campaign.)"""
     from motoflex_ros.identify.decay import match_pole
     setup = only_tests(setup_campaign(component), ("decay",))
+    first = setup.modes.first_lateral()
     for seed in range(3):
-        poles = list(run_campaign(setup, seed=seed).readings["decay"].poles)
-        first = setup.modes.first_lateral()
-        assert match_pole(poles, first.omega_n) is not None
-        for label in ("torsion", "bending"):
-            mode = setup.modes.first(label)
-            pole = match_pole(poles, mode.omega_n)
-            if pole is not None:
-                assert pole.omega_n == pytest.approx(mode.omega_n, rel=0.01), (label, seed)
-                assert pole.zeta == pytest.approx(mode.zeta, rel=0.01), (label, seed)
+        pole = match_pole(list(run_campaign(setup, seed=seed).readings["decay"].poles),
+                          first.omega_n)
+        assert pole is not None, seed
+        assert pole.omega_n == pytest.approx(first.omega_n, rel=0.01), seed
+        assert pole.zeta == pytest.approx(first.zeta, rel=0.01), seed

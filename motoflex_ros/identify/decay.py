@@ -14,8 +14,9 @@ import numpy as np
 
 from motoflex_ros.identify.stiffness import damping_ratio, natural_frequency
 
-__all__ = ["DecayPole", "matrix_pencil_poles", "match_pole", "MAX_PENCIL"]
+__all__ = ["DecayPole", "matrix_pencil_poles", "match_pole", "MAX_PENCIL", "ACTIVE_CHANNEL"]
 
+ACTIVE_CHANNEL = 0.05  # channels swinging less than this fraction of the largest are left out
 MAX_PENCIL = 150  # pencil parameter cap: above 2 x (number of modes), keeps the SVD small
 
 
@@ -51,9 +52,12 @@ def matrix_pencil_poles(signals, dt, max_order=None):
     """Poles (Im > 0, ascending omega_n) of a multi-channel free decay.
 
     signals (n, channels) sampled at period dt [s], channels in comparable units (e.g. rotations
-    times a length); returns a list of :class:`DecayPole`.
+    times a length); channels that hardly move (the in-plane ones after a lateral release) carry
+    only noise and are left out. Returns a list of :class:`DecayPole`.
     """
     signals = np.asarray(signals, float)
+    swing = np.ptp(signals, axis=0)
+    signals = signals[:, swing >= ACTIVE_CHANNEL * swing.max()]  # drop channels of noise only
     signals = signals / max(float(np.abs(signals).max()), 1e-300)
     pencil = min(signals.shape[0] // 3, MAX_PENCIL)
     _, sv, vt = np.linalg.svd(_hankel_stack(signals, pencil), full_matrices=False)
@@ -68,7 +72,7 @@ def matrix_pencil_poles(signals, dt, max_order=None):
     return sorted(poles, key=lambda p: p.omega_n)
 
 
-def match_pole(poles, omega_n, tolerance=0.1):
+def match_pole(poles, omega_n, tolerance=0.05):
     """The pole nearest to omega_n [rad/s] within a relative tolerance, else None."""
     if not poles:
         return None
