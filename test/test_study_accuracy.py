@@ -38,12 +38,17 @@ def motoflex(*args):
                           capture_output=True, text=True)
 
 
-@pytest.mark.slow
-def test_accuracy_verb_end_to_end(identified_file, tmp_path):
+@pytest.fixture(scope="module")
+def verb_run(identified_file, tmp_path_factory):
+    plots = tmp_path_factory.mktemp("plots")
     result = motoflex("study", "accuracy", "--identified", str(identified_file), "--json",
-                      "--step-kmh", "10", "--plot", str(tmp_path))
+                      "--step-kmh", "10", "--plot", str(plots))
     assert result.returncode == 0, result.stderr
-    table = json.loads(result.stdout)
+    return json.loads(result.stdout), plots
+
+
+def test_accuracy_verb_end_to_end(verb_run):
+    table, plots = verb_run
     assert set(table) == set(CASES)
     for case in CASES:
         assert set(table[case]) == set(ACCURACY_VARIANTS)
@@ -51,8 +56,36 @@ def test_accuracy_verb_end_to_end(identified_file, tmp_path):
             values = table[case][variant]
             assert set(values) == set(QUANTITIES)
             assert all(np.isfinite(v) and v >= 0 for v in values.values())
-    assert (tmp_path / "fig8_accuracy.png").stat().st_size > 10_000
-    assert (tmp_path / "fig9_front_assembly.png").stat().st_size > 10_000
+    assert (plots / "fig8_accuracy.png").stat().st_size > 10_000
+    assert (plots / "fig9_front_assembly.png").stat().st_size > 10_000
+
+
+def test_published_state_of_the_art_and_bending_alike_for_front_assembly(verb_run):
+    """Sect. 5.2.2: for the front assembly the state-of-the-art and the bending models give
+    very similar results (the bending axis is almost perpendicular to the fork)."""
+    front = verb_run[0]["front_assembly"]
+    for quantity in QUANTITIES:
+        a, b = front["state_of_the_art"][quantity], front["bending"][quantity]
+        assert abs(a - b) <= 0.25 * max(a, b) + 0.5, (quantity, a, b)
+
+
+@pytest.mark.xfail(strict=True, reason="ours: state_of_the_art is best for the frame (wobble Re "
+                   "~5 % vs static ~13 %) and no variant beats ~37 % on the front assembly's "
+                   "wobble real part; see the issue note")
+def test_published_static_lowest_error_in_every_case(verb_run):
+    """Sect. 5.2: the static model has the lowest e_RMS in each of the four cases."""
+    table = verb_run[0]
+    for case in CASES:
+        totals = {v: sum(table[case][v].values()) for v in ACCURACY_VARIANTS}
+        assert min(totals, key=totals.get) == "static", (case, totals)
+
+
+@pytest.mark.xfail(strict=True, reason="ours: ~40 % with all components flexible, set by the "
+                   "front assembly (see the issue note)")
+def test_published_static_wobble_real_part_within_10_percent(verb_run):
+    """Sect. 5.2.4: with all components flexible the static model's wobble real-part error is at
+    most 10 %."""
+    assert verb_run[0]["all"]["static"]["wobble_re"] <= 10.0
 
 
 def test_core_errors_are_eq18_of_the_tracked_curves(identified_file):
