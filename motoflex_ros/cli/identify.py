@@ -21,7 +21,10 @@ DEFAULT_COMPONENTS = ("frame", "front_assembly", "swingarm")
 def register(subparsers):
     """Add the ``identify`` verb."""
     p = subparsers.add_parser("identify", help="identify lumped stiffness models on the bench",
-                              description=__doc__.splitlines()[0])
+                              description="Run the bench campaign offline (no ROS) per "
+                                          "component: static, harmonic at the first torsion "
+                                          "and bending frequencies, sweep, modal; identify "
+                                          "l, beta, b, k, c, J and k_t, k_b (eqs. 1-12).")
     p.add_argument("--component", action="append", metavar="NAME|FILE",
                    help="component (shipped name or YAML file); repeatable; default: frame, "
                         "front_assembly, swingarm")
