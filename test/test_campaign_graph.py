@@ -14,8 +14,6 @@ import pytest
 
 pytest.importorskip("rclpy")
 from motoflex_ros.cli.output import to_jsonable  # noqa: E402
-from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
-from motoflex_ros.launcher.graph import NodeGraph, NodeSpec  # noqa: E402
 from motoflex_ros.record import mcap_bag  # noqa: E402
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
@@ -104,19 +102,14 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
 
 
 def _replay_reproduces(tmp_path, bag, live):
-    """Replay the bag into a fresh identification node: the same result file, exactly."""
+    """``motoflex replay BAG --identify FILE``: a fresh identification node, the same file."""
     replayed = tmp_path / "replayed.json"
-    specs = [NodeSpec("identification", {"components": [COMPONENT],
-                                         "result_file": str(replayed)}),
-             NodeSpec("bag_replay", {"bag": str(bag), "wait_for": ["identification"],
-                                     "exclude": ["/rig/", "/identification/"]})]
-    with DomainLock() as lock, NodeGraph(specs, lock.domain_id, tmp_path / "replay") as graph:
-        assert graph.wait("bag_replay", 300) == 0, graph.log_tail("bag_replay")
-        deadline = time.monotonic() + 60
-        while not replayed.exists():
-            assert time.monotonic() < deadline, graph.log_tail("identification")
-            time.sleep(0.1)
+    cli = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "replay", str(bag),
+                          "--identify", str(replayed)], capture_output=True, text=True,
+                         timeout=600, env=dict(os.environ, TMPDIR=str(tmp_path)))
+    assert cli.returncode == 0, cli.stderr
     _assert_same(json.loads(replayed.read_text()), live)
+    assert _our_processes(str(tmp_path)) == []
 
 
 @pytest.mark.parametrize("victim", ["load_actuator", "component_simulator",

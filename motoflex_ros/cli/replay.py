@@ -1,9 +1,14 @@
-"""``motoflex replay BAG [--rate R]``: republish a recorded run with its /clock.
+"""``motoflex replay BAG [--rate R] [--identify FILE]``: republish a recorded run.
 
-Runs the bag_replay node in this process, on the current ROS_DOMAIN_ID, so that other nodes
-(a viewer, the identification node) can listen. ``--rate 0`` publishes as fast as possible.
+Without --identify: runs the bag_replay node in this process on the current ROS_DOMAIN_ID, so
+that other nodes (a viewer, your own identification node) can listen; ``--rate 0`` publishes
+as fast as possible. With --identify FILE: replays the bench topics into a fresh identification
+node on a private domain and writes its results to FILE (the format of ``motoflex identify
+--out``), which reproduces the live run's identification.json.
 """
-__all__ = ["register", "run"]
+__all__ = ["register", "run", "bag_components"]
+
+CANONICAL = ("frame", "front_assembly", "swingarm")
 
 
 def register(subparsers):
@@ -12,20 +17,54 @@ def register(subparsers):
         "replay", help="republish a recorded bag with its /clock",
         description="Republish every topic of a bag (its /clock included) in recording order.")
     parser.add_argument("bag", help="bag directory, e.g. bags/<run>")
-    parser.add_argument("--rate", type=float, default=1.0,
-                        help="speed factor against the recorded time (0: as fast as possible)")
+    parser.add_argument("--rate", type=float, default=None,
+                        help="speed factor against the recorded time (0: as fast as possible; "
+                             "default 1, or 0 with --identify)")
+    parser.add_argument("--identify", metavar="FILE",
+                        help="identify the components again from the replay; write FILE")
     parser.set_defaults(func=run)
 
 
+def bag_components(info):
+    """Components whose bench topics the bag holds (campaign order: frame, front, swingarm)."""
+    names = {t.name.split("/")[2] for t in info.topics
+             if t.name.startswith("/bench/") and t.name.endswith("/phase")}
+    return [n for n in CANONICAL if n in names] + sorted(names - set(CANONICAL))
+
+
 def run(args):
-    """Check the bag, then run bag_replay until every message is out."""
+    """Check the bag, then replay it (optionally into an identification node)."""
     from motoflex_ros.errors import MotoflexError
     from motoflex_ros.record.mcap_bag import bag_info
-    if not 0.0 <= args.rate <= 1000.0:
-        raise MotoflexError(f"--rate {args.rate:g} is out of range [0, 1000]")
+    rate = args.rate if args.rate is not None else (0.0 if args.identify else 1.0)
+    if not 0.0 <= rate <= 1000.0:
+        raise MotoflexError(f"--rate {rate:g} is out of range [0, 1000]")
     info = bag_info(args.bag)
+    if args.identify:
+        return _identify(info, rate, args.identify)
     from motoflex_ros.nodes.bag_replay import BagReplay
     from motoflex_ros.nodes.runtime import run_node
-    print(f"replaying {info.path}: {info.message_count} messages at rate {args.rate:g}")
+    print(f"replaying {info.path}: {info.message_count} messages at rate {rate:g}")
     return run_node(BagReplay, ["motoflex_replay", "--ros-args", "-p", f"bag:={info.path}",
-                                "-p", f"rate:={args.rate!r}"])
+                                "-p", f"rate:={rate!r}"])
+
+
+def _identify(info, rate, out):
+    from pathlib import Path
+
+    from motoflex_ros.errors import MotoflexError
+    from motoflex_ros.launcher.graph import NodeSpec
+    from motoflex_ros.launcher.run import run_graph
+    components = bag_components(info)
+    if not components:
+        raise MotoflexError(f"{info.path}: no /bench/<component>/phase topic to identify from")
+    out = Path(out).resolve()
+    specs = [NodeSpec("identification", {"components": components, "result_file": str(out),
+                                         "exit_when_done": True}),
+             NodeSpec("bag_replay", {"bag": str(info.path), "rate": rate,
+                                     "wait_for": ["identification"],
+                                     "exclude": ["/rig/", "/identification/", "/vehicle/"]})]
+    run = run_graph(specs, "bag_replay", info.duration_ns / 1e9, finishers=["identification"])
+    print(f"identified {', '.join(components)} from {info.path} -> {out} "
+          f"({run.wall_s:.1f} s)")
+    return 0

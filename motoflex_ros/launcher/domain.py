@@ -20,7 +20,9 @@ class DomainLock:
     """Context manager holding a free domain id (``.domain_id``)."""
 
     def __init__(self, lock_dir=None):
-        self.lock_dir = Path(lock_dir or Path(tempfile.gettempdir()) / "motoflex_ros_domains")
+        # one place for every run of this machine, whatever TMPDIR says
+        shared = Path("/tmp") if Path("/tmp").is_dir() else Path(tempfile.gettempdir())
+        self.lock_dir = Path(lock_dir or shared / "motoflex_ros_domains")
         self.domain_id = None
         self._fd = None
 

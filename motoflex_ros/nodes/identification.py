@@ -39,6 +39,7 @@ class IdentificationNode(RigNode):
     NAME = "identification"
     PARAMS = BENCH_PARAMS + (
         Param("result_file", "", description="JSON file of the results ('': none)"),
+        Param("exit_when_done", False, description="exit once every component is identified"),
     )
 
     def __init__(self):
@@ -119,8 +120,11 @@ class IdentificationNode(RigNode):
         msg.header.stamp = time_msg(end_ns)
         self.results_pub.publish(msg)
         self.get_logger().info(f"{component}: identified, k = {result.static['k']:.6g} N m/rad")
-        if len(self.results) == len(self.setups) and self.params["result_file"]:
-            write_results(self.params["result_file"], {c: self.results[c] for c in self.setups})
+        if len(self.results) == len(self.setups):
+            if self.params["result_file"]:
+                write_results(self.params["result_file"],
+                              {c: self.results[c] for c in self.setups})
+            self.finished = self.params["exit_when_done"]
 
 
 def write_results(path, results):

@@ -204,6 +204,17 @@ def _profiler():
     return profile
 
 
+def _deliver_everything(node, timeout_s=30.0):
+    """Before a node that finished exits: wait until every reader acknowledged every message
+    (a reliable writer that dies with unacknowledged data loses it, silently, at the end).
+    """
+    from rclpy.duration import Duration
+    for publisher in node.publishers:
+        if not publisher.wait_for_all_acked(Duration(seconds=timeout_s)):
+            node.get_logger().error(f"{publisher.topic_name}: readers did not acknowledge "
+                                    f"everything within {timeout_s:g} s")
+
+
 def run_node(node_class, args=None):
     """Run ``node_class`` until it finishes or gets SIGINT/SIGTERM; returns the exit code."""
     stop = []
@@ -228,6 +239,8 @@ def run_node(node_class, args=None):
         if profile is not None:
             profile.disable()
             profile.dump_stats(f"{os.environ['MOTOFLEX_PROFILE']}/{node.get_name()}.prof")
+        if node.finished:
+            _deliver_everything(node)
         node.close(stop[0] if stop else "finished")
         node.destroy_node()
         rclpy.try_shutdown()
