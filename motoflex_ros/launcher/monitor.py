@@ -43,7 +43,7 @@ class Monitor(Node):
                 raise NodeDied(f"nodes not up after {timeout:g} s: {missing}")
             self.spinner.spin_once(0.1)
 
-    def follow(self, graph, pacer, duration_s, progress):
+    def follow(self, graph, pacer, duration_s, progress, finishers=()):
         """Spin until the pacing node exits; a progress bar over simulated time."""
         from motoflex_ros.launcher.run import pacer_failed
         bar = _progress_bar(duration_s) if progress else None
@@ -59,7 +59,8 @@ class Monitor(Node):
                     if bar is not None:
                         bar.total = bar.n  # tests settle before their planned maximum
                     return
-                graph.check_alive(allowed=(pacer,))
+                done = tuple(n for n in finishers if graph.exited().get(n) == 0)
+                graph.check_alive(allowed=(pacer, *done))
         finally:
             if bar is not None:
                 bar.close()
