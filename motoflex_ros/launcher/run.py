@@ -58,6 +58,7 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
                 graph.stop()
                 raise
             codes = graph.stop()
+            _check_exit_codes(graph, codes)
     except KeyboardInterrupt as exc:
         what = str(exc) or "SIGINT"
         raise RunInterrupted(f"interrupted by {what}; every node stopped "
@@ -88,6 +89,16 @@ def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending)
         return monitor.collected
     finally:
         rclpy.try_shutdown(context=context)
+
+
+def _check_exit_codes(graph, codes):
+    """RunFailed if a node ended badly when stopped (e.g. exit 3: it saw lost messages)."""
+    bad = {name: code for name, code in codes.items() if code != 0}
+    if bad:
+        name, code = next(iter(bad.items()))
+        raise RunFailed(f"node '{name}' ended with {describe_exit(code)} at the end of the run "
+                        f"(exit 3 means it saw lost messages); its log: "
+                        f"{graph.log_dir / (name + '.log')}: {graph.log_tail(name)}")
 
 
 def pacer_failed(graph, pacer, code):

@@ -33,9 +33,10 @@ from motoflex_ros.nodes.params import declare_parameters
 
 __all__ = ["RigNode", "FastSpinner", "run_node", "publish_patiently", "message_class",
            "reliable_qos",
-           "latched_qos", "READY_TOPIC", "ACK_TOPIC"]
+           "latched_qos", "READY_TOPIC", "ACK_TOPIC", "GAP_EXIT_CODE"]
 
 READY_TOPIC = "/rig/ready"
+GAP_EXIT_CODE = 3  # a node that saw a sequence gap exits with this code
 ACK_TOPIC = "/rig/ack"
 
 
@@ -141,6 +142,7 @@ class RigNode(Node):
         """Called once when the loop ends (``reason``: 'finished', 'SIGINT', 'SIGTERM')."""
         if self.gaps:
             self.get_logger().error(f"{self.gaps} message(s) lost in total")
+            self.exit_code = self.exit_code or GAP_EXIT_CODE
 
 
 def publish_patiently(publisher, msg, timeout_s=30.0):
