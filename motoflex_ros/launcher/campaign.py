@@ -90,6 +90,9 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
                        work_dir=None):
     """Run the campaign through the graph; returns a :class:`CampaignOutcome`."""
     bag = Path(bag)
+    if bag.exists() and (not bag.is_dir() or any(bag.iterdir())):
+        from motoflex_ros.record.mcap_bag import BagError
+        raise BagError(f"{bag}: exists and is not an empty directory; choose another --out")
     specs = campaign_specs(components, bag, noise, seed, protocol)
     start = time.monotonic()
     work_dir = work_dir or tempfile.mkdtemp(prefix="motoflex_campaign_")
