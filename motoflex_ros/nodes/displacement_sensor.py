@@ -1,8 +1,8 @@
 """displacement_sensor: the marker sensor (noise, resolution, latency) of the bench.
 
-For each sample (phase + true markers of /bench/<c>/) it recovers the loaded end's true pose
-from the true markers (the core's rigid fit), lets the core's MarkerSensor capture it and
-publishes what the sensor delivers at that sample: all delivered marker sets in one
+For each sample (phase + true markers of /bench/<c>/) the core's MarkerSensor captures the
+true markers (noise, resolution, latency) and the node publishes what the sensor delivers at
+that sample: all delivered marker sets in one
 /bench/<c>/markers/measured (geometry_msgs/PoseArray, possibly empty while the latency runs)
 and, per delivered measurement, the fitted pose on /bench/<c>/pose (PoseStamped). At the end
 marker it flushes the sensor.
@@ -50,9 +50,7 @@ class DisplacementSensorNode(RigNode):
             self.subscribe(PoseArray, bench_topic(c, "markers/true"), join.callback("true"))
 
     def _handler(self, component):
-        from motoflex_ros.bench.sensor import fit_pose
         sensor = self.sensors[component]
-        q0 = np.asarray(self.setups[component].reduced.q0, float)
         frame = frame_id(component)
 
         def handle(phase, inputs):
@@ -62,9 +60,8 @@ class DisplacementSensorNode(RigNode):
             else:
                 sample, _ = sample_from_phase(phase, 0.0)
                 ns = time_ns(inputs["true"].header.stamp)
-                position, rotation = fit_pose(points_from_msg(inputs["true"]), sensor.reference,
-                                              q0)
-                delivered = sensor.capture(sample.index, sample.t, position, rotation)
+                delivered = sensor.capture_markers(sample.index, sample.t,
+                                                   points_from_msg(inputs["true"]))
             markers = [m.markers for m in delivered]
             self.measured_pubs[component].publish(
                 points_msg(ns, frame, np.concatenate(markers) if markers else np.zeros((0, 3))))
