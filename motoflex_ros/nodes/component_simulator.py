@@ -12,7 +12,7 @@ from std_msgs.msg import String
 
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
-from motoflex_ros.nodes.conversions import points_msg, sample_from_phase, time_ns
+from motoflex_ros.nodes.conversions import points_cdr, sample_from_phase, time_ns
 from motoflex_ros.nodes.runtime import RigNode, run_node
 
 __all__ = ["ComponentSimulatorNode", "main"]
@@ -51,7 +51,7 @@ class ComponentSimulatorNode(RigNode):
             motion = self.sims[component].step(sample)
             markers = marker_positions(q0 + motion[:3], rotation_from_vector(motion[3:]), q0,
                                        offsets)
-            self.pubs[component].publish(points_msg(time_ns(load.header.stamp),
+            self.pubs[component].publish(points_cdr(time_ns(load.header.stamp),
                                                     frame_id(component), markers))
         return handle
 

@@ -16,11 +16,10 @@ from std_msgs.msg import String
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.conversions import (
-    points_from_msg,
-    points_msg,
+    points_cdr,
+    points_from_cdr,
     pose_msg,
     sample_from_phase,
-    time_ns,
 )
 from motoflex_ros.nodes.runtime import RigNode, run_node
 
@@ -47,7 +46,8 @@ class DisplacementSensorNode(RigNode):
             join = SampleJoin("phase", ("true",), self._handler(c),
                               needs=lambda head: () if "end_ns" in head.data else ("true",))
             self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"))
-            self.subscribe(PoseArray, bench_topic(c, "markers/true"), join.callback("true"))
+            self.subscribe(PoseArray, bench_topic(c, "markers/true"), join.callback("true"),
+                           raw=True)
 
     def _handler(self, component):
         sensor = self.sensors[component]
@@ -59,12 +59,11 @@ class DisplacementSensorNode(RigNode):
                 delivered = sensor.flush()
             else:
                 sample, _ = sample_from_phase(phase, 0.0)
-                ns = time_ns(inputs["true"].header.stamp)
-                delivered = sensor.capture_markers(sample.index, sample.t,
-                                                   points_from_msg(inputs["true"]))
+                ns, true_markers = points_from_cdr(inputs["true"])
+                delivered = sensor.capture_markers(sample.index, sample.t, true_markers)
             markers = [m.markers for m in delivered]
             self.measured_pubs[component].publish(
-                points_msg(ns, frame, np.concatenate(markers) if markers else np.zeros((0, 3))))
+                points_cdr(ns, frame, np.concatenate(markers) if markers else np.zeros((0, 3))))
             for m in delivered:
                 self.pose_pubs[component].publish(pose_msg(ns, frame, m.position, m.rotation))
         return handle

@@ -19,7 +19,7 @@ from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_se
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.conversions import (
     identification_statuses,
-    points_from_msg,
+    points_from_cdr,
     sample_from_phase,
     time_msg,
     time_ns,
@@ -63,7 +63,7 @@ class IdentificationNode(RigNode):
             self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"))
             self.subscribe(WrenchStamped, bench_topic(c, "load"), join.callback("load"))
             self.subscribe(PoseArray, bench_topic(c, "markers/measured"),
-                           join.callback("measured"))
+                           join.callback("measured"), raw=True)
 
     def _handler(self, component):
         identifier = self.identifiers[component]
@@ -85,14 +85,13 @@ class IdentificationNode(RigNode):
                 self.unacked[component] = ns
         return handle
 
-    def _measurements(self, component, msg):
+    def _measurements(self, component, data):
         fitter, identifier = self.fitters[component], self.identifiers[component]
         n = len(fitter.offsets)
-        points = points_from_msg(msg)
+        stamp_ns, points = points_from_cdr(data)
         settled = []
         for chunk in np.split(points, len(points) // n) if len(points) else []:
-            measurement = fitter.measurement(self.count[component],
-                                             time_ns(msg.header.stamp) / 1e9, chunk)
+            measurement = fitter.measurement(self.count[component], stamp_ns / 1e9, chunk)
             self.count[component] += 1
             done = identifier.add_measurement(measurement)
             if done:
