@@ -72,14 +72,19 @@ def _fixed_interface_modes(k_ii, m_ii, lu, n_modes, f_max_hz):
         w2, phi = sla.eigh(k_ii.toarray(), m_ii.toarray())
     else:
         op_inv = spla.LinearOperator(k_ii.shape, matvec=lu.solve, dtype=float)
-        w2, phi = spla.eigsh(k_ii, k=n_modes, M=m_ii, sigma=0.0, OPinv=op_inv, which="LM")
+        # a fixed start vector makes ARPACK, and so the reduced model, the same in every process
+        start = np.linspace(1.0, 2.0, n_int)
+        w2, phi = spla.eigsh(k_ii, k=n_modes, M=m_ii, sigma=0.0, OPinv=op_inv, which="LM",
+                             v0=start)
     order = np.argsort(w2)
     w2, phi = w2[order], phi[:, order]
     freq = np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi)
     keep = np.flatnonzero(freq <= f_max_hz)[:n_modes]
     phi = phi[:, keep]
     phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, m_ii @ phi))
-    return freq[keep], phi
+    # sign convention: the largest entry of every mode is positive
+    largest = phi[np.argmax(np.abs(phi), axis=0), np.arange(phi.shape[1])]
+    return freq[keep], phi * np.where(largest < 0, -1.0, 1.0)
 
 
 def craig_bampton(K, M, boundary, n_modes=20, f_max_hz=600.0, zeta=0.01):
