@@ -13,7 +13,7 @@ import yaml
 
 from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table, to_jsonable
 
-__all__ = ["register", "run", "DEFAULT_COMPONENTS"]
+__all__ = ["register", "run", "write_results", "DEFAULT_COMPONENTS"]
 
 DEFAULT_COMPONENTS = ("frame", "front_assembly", "swingarm")
 
@@ -52,7 +52,11 @@ def _table(results):
                  "f [Hz]"], rows)
 
 
-def _write(path, results):
+def write_results(path, results):
+    """Write identification results as JSON, or YAML for a .yaml/.yml path, atomically.
+
+    The offline command and the identification node both use it, so their files are equal.
+    """
     path = Path(path)
     data = to_jsonable(results)
     if path.suffix in (".yaml", ".yml"):
@@ -69,7 +73,7 @@ def run(args):
     runs = identify_components(components, args.protocol, args.noise, args.seed)
     results = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
     if args.out:
-        _write(args.out, results)
+        write_results(args.out, results)
     if args.plot:
         from motoflex_ros.plots.axes import plot_component_axes
         for name, (setup, run) in runs.items():

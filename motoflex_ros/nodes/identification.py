@@ -130,8 +130,8 @@ def write_results(path, results):
     """{component: ComponentIdentification.to_dict()} written exactly as ``motoflex identify
     --out`` writes it (JSON, or YAML for .yaml/.yml), atomically.
     """
-    from motoflex_ros.cli.identify import _write  # the offline command's own writer
-    _write(path, {name: r.to_dict() for name, r in results.items()})
+    from motoflex_ros.cli.identify import write_results  # the offline command's writer
+    write_results(path, {name: r.to_dict() for name, r in results.items()})
 
 
 def main(args=None):
