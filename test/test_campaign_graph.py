@@ -74,9 +74,12 @@ def _our_processes(marker):
 def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     from motoflex_ros.bench.campaign import identify_components
     bag = tmp_path / "run"
-    proc = _campaign(tmp_path, "--out", str(bag))
+    proc = _campaign(tmp_path, "--out", str(bag), "--report", "quick")
     out, err = proc.communicate(timeout=600)
     assert proc.returncode == 0, err
+    # issue 9: every campaign leaves its rerun recording and report beside the bag
+    assert (bag / "run.rrd").stat().st_size > 10_000
+    assert "<html" in (bag / "report.html").read_text()
     live = json.loads((bag / "identification.json").read_text())
     offline = {n: to_jsonable(r.identification.to_dict())
                for n, (_, r) in identify_components([COMPONENT], seed=0).items()}
@@ -115,7 +118,7 @@ def _replay_reproduces(tmp_path, bag, live):
                                     "SIGINT"])
 def test_campaign_fault_named_and_clean(tmp_path, victim):
     bag = tmp_path / "run"
-    proc = _campaign(tmp_path, "--out", str(bag))
+    proc = _campaign(tmp_path, "--out", str(bag), "--report", "none")
     try:
         deadline = time.monotonic() + 120
         mcap = bag / "run_0.mcap"

@@ -7,6 +7,7 @@ against the paper's Table 2, stops every node and leaves the bag in ``--out``
 writes). A node that dies, SIGINT or SIGTERM stop the run with a message naming what happened.
 """
 import time
+from pathlib import Path
 
 from motoflex_ros.cli.output import emit_json, print_table
 
@@ -29,6 +30,10 @@ def register(subparsers):
     p.add_argument("--out", metavar="DIR", help="bag directory to create (default "
                    "bags/campaign_<UTC time>)")
     p.add_argument("--json", action="store_true", help="print the results as JSON only")
+    p.add_argument("--report", choices=("full", "quick", "none"), default="full",
+                   help="at the end write <run>.rrd and report.html: 'full' computes the "
+                        "studies the report shows (accuracy, sensitivity, ...; about a minute), "
+                        "'quick' reports only what the run produced, 'none' writes neither")
     p.set_defaults(func=run)
 
 
@@ -39,6 +44,7 @@ def run(args):
     out = args.out or time.strftime("bags/campaign_%Y%m%d_%H%M%S", time.gmtime())
     outcome = run_campaign_graph(args.components, out, args.noise, args.seed, args.protocol,
                                  progress=not args.json)
+    written = _recording_and_report(outcome.bag, args.report, progress=not args.json)
     if args.json:
         emit_json(outcome.results)
         return 0
@@ -50,7 +56,20 @@ def run(args):
     print(f"\nbag: {outcome.bag} ({info.message_count} messages, {len(info.topics)} topics); "
           f"results: {outcome.result_file}; wall time {outcome.wall_s:.1f} s "
           f"(ROS_DOMAIN_ID {outcome.domain_id})")
+    for path in written:
+        print(f"wrote {path}")
     return 0
+
+
+def _recording_and_report(bag, mode, progress):
+    """The run's rerun recording and report (issue 9); returns the paths written."""
+    if mode == "none":
+        return []
+    from motoflex_ros.record.rerun_bag import convert_bag
+    from motoflex_ros.report.build import build_report
+    rrd, _ = convert_bag(bag, progress=progress)
+    report, _ = build_report(Path(bag), compute=mode == "full", progress=progress)
+    return [rrd, report]
 
 
 def _table(results):
