@@ -5,4 +5,4 @@ set -euo pipefail
 cd "$(dirname "$0")"
 source tools/ensure_env.sh
 export ROS_LOG_DIR="${ROS_LOG_DIR:-$(mktemp -d)}"
-exec motoflex components "$@"
+exec motoflex campaign "$@"
