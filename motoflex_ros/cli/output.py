@@ -1,11 +1,10 @@
 """Shared output helpers of the CLI verbs: JSON to stdout, tables, atomic file writes."""
 import json
-import os
 import sys
-import tempfile
-from pathlib import Path
 
 import numpy as np
+
+from motoflex_ros.files import atomic_write_text
 
 __all__ = ["emit_json", "to_jsonable", "atomic_write_text", "print_table"]
 
@@ -28,20 +27,6 @@ def emit_json(obj, stream=None):
     stream = stream or sys.stdout
     json.dump(to_jsonable(obj), stream, indent=1, allow_nan=False)
     stream.write("\n")
-
-
-def atomic_write_text(path, text):
-    """Write ``text`` to ``path`` through a temporary file and a rename (no half-written file)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as stream:
-            stream.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def print_table(header, rows, stream=None):

@@ -1,34 +1,19 @@
 """PNG of a clamped component: undeformed structure, first torsion and first bending mode,
 each seen in the x-z plane and in 3D (deformation exaggerated)."""
-import io
-import os
-import tempfile
-from pathlib import Path
-
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from motoflex_ros.files import atomic_save_figure  # noqa: E402
+
 __all__ = ["plot_component", "write_png_atomic"]
 
 
 def write_png_atomic(fig, path):
-    """Save ``fig`` as PNG through a temporary file and a rename (nothing half-written)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as stream:
-            stream.write(buf.getvalue())
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    """Save ``fig`` as PNG atomically (nothing half-written)."""
+    atomic_save_figure(fig, path, dpi=110)
 
 
 def _mode_shape(component, reduced, label):

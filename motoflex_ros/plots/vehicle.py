@@ -1,7 +1,5 @@
 """Plots of a vehicle's modal sweep: root locus, and weave/wobble frequency and real part
 against speed (the style of Fig. 9 of Passigato et al. 2023). PNG files, written atomically."""
-import os
-import tempfile
 from pathlib import Path
 
 import matplotlib
@@ -10,24 +8,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from motoflex_ros.files import atomic_save_figure  # noqa: E402
+
 __all__ = ["plot_modal_sweep", "save_png"]
 
 
-def save_png(fig, path):
-    """Write a figure as PNG through a temporary file and a rename; close it; return path."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".png")
-    os.close(fd)
+def save_png(fig, path, dpi=120):
+    """Write a figure as PNG atomically, close it; returns the path."""
     try:
-        fig.savefig(tmp, dpi=120)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+        return atomic_save_figure(fig, path, dpi)
     finally:
         plt.close(fig)
-    return path
 
 
 def _root_locus(sweep, title):

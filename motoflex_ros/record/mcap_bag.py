@@ -24,6 +24,7 @@ from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType, Writer
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.files import atomic_write_bytes
 
 __all__ = ["BagError", "TopicInfo", "BagInfo", "BagMessage", "BagWriter", "message_definition",
            "type_hash", "bag_info", "read_messages", "repair", "find_mcap", "METADATA_FILE"]
@@ -239,18 +240,7 @@ def write_metadata(bag_dir, mcap_file, topics, start_ns, duration_ns):
     """Write ``metadata.yaml`` of a bag atomically (temp file + rename)."""
     text = yaml.safe_dump(_metadata_dict(Path(mcap_file), topics, start_ns, duration_ns),
                           sort_keys=False)
-    _atomic_write(Path(bag_dir) / METADATA_FILE, text.encode())
-
-
-def _atomic_write(path, data):
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as stream:
-            stream.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    atomic_write_bytes(Path(bag_dir) / METADATA_FILE, text.encode())
 
 
 def find_mcap(path):
