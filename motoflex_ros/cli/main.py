@@ -7,6 +7,7 @@ exit code 2. Ctrl-C exits with 130.
 """
 import argparse
 import importlib
+import os
 import sys
 
 from motoflex_ros.errors import MotoflexError
@@ -48,6 +49,10 @@ def main(argv=None):
     except KeyboardInterrupt:
         print(f"motoflex {args.verb}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # the reader went away (e.g. `motoflex bag info ... | head`): stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     return int(code or 0)
 
 
