@@ -120,3 +120,33 @@ def test_stiff_lumped_joints_converge_to_rigid_limit(vehicle, components, identi
             err = max(err, np.max(nearest / np.maximum(np.abs(ref), 1.0)))
         errors.append(err)
     assert errors[1] < errors[0] / 10 and errors[1] < 1e-3
+
+
+def test_eig_verb_with_flex_variant(identified, tmp_path):
+    """``motoflex eig --flex`` builds the variant from a result file; its weave and wobble equal
+    the core's sweep of the same variant."""
+    import json
+    import subprocess
+    import sys
+
+    from motoflex_ros.vehicle.modes import modal_sweep
+
+    path = tmp_path / "identified.json"
+    path.write_text(json.dumps(identified, default=float))
+    result = subprocess.run(
+        [sys.executable, "-m", "motoflex_ros.cli.main", "eig", "--vehicle", "touring",
+         "--speeds", "20", "40", "--flex", "static", "--components", "swingarm",
+         "--identified", str(path), "--json"], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    out = json.loads(result.stdout)
+    vehicle = load_vehicle(config_path("vehicles", "touring"))
+    model = build_variant(vehicle, "static", ["swingarm"], identified,
+                          {"swingarm": load_component("swingarm")})
+    sweep = modal_sweep(linearize(model), np.array([20.0, 40.0]))
+    for mode in ("weave", "wobble"):
+        got = np.array([complex(*z) for z in out["modes"][mode]])
+        assert np.allclose(got, sweep.modes[mode], rtol=1e-9)
+    bad = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "eig", "--vehicle",
+                          "touring", "--speeds", "20", "--flex", "static", "--components",
+                          "fork"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "unknown component 'fork'" in bad.stderr
