@@ -53,3 +53,16 @@ def test_body_split_into_parts_published(whipple):
         "front_half": dict(half, com=[body["com"][0] + 0.1, 0.0, body["com"][2]]),
         "rear_half": dict(half, com=[body["com"][0] - 0.1, 0.0, body["com"][2]])}}
     _check(data)
+
+
+def test_reversed_wheel_axes_touring_roundtrip():
+    """The sign of a wheel's spin axis in the file changes nothing (tyre side force, aligning
+    and twisting moments included): the touring motorcycle with both axes reversed."""
+    with open(config_path("vehicles", "touring"), encoding="utf-8") as stream:
+        data = yaml.safe_load(stream)
+    reference = linearize(vehicle_from_dict(copy.deepcopy(data), "touring")).eigenvalues(30.0)
+    for wheel in data["wheels"].values():
+        wheel["axis"] = [0.0, -1.0, 0.0]
+    got = linearize(vehicle_from_dict(data, "reversed")).eigenvalues(30.0)
+    assert len(got) == len(reference)
+    assert max(np.min(np.abs(got - z)) for z in reference) < 1e-9 * np.max(np.abs(reference))

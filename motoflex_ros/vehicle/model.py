@@ -203,8 +203,11 @@ def _wheels(spec, bodies, source, gravity):
                               f"crown radius {w['crown_radius']:g} m must be below the wheel "
                               f"radius {w['radius']:g} m")
         tyre = tyre_from_config(w["tyre"], source, f"{key}.tyre", loads[name], w["crown_radius"])
-        wheels.append(Wheel(name, w["carrier"], np.asarray(w["centre"], float),
-                            _unit_axis(w["axis"], source, f"{key}.axis"), w["radius"],
+        axis = _unit_axis(w["axis"], source, f"{key}.axis")
+        # the spin axis has no physical sign, but the contact frame is built from it: take it
+        # pointing left (+y) so that tyre moments do not depend on how the file wrote it
+        axis = -axis if axis[1] < 0 else axis
+        wheels.append(Wheel(name, w["carrier"], np.asarray(w["centre"], float), axis, w["radius"],
                             w["crown_radius"], w["mass"], w["inertia"]["diametral"],
                             w["inertia"]["spin"], tyre))
     return tuple(wheels)
