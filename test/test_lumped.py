@@ -150,3 +150,24 @@ def test_eig_verb_with_flex_variant(identified, tmp_path):
                           "touring", "--speeds", "20", "--flex", "static", "--components",
                           "fork"], capture_output=True, text=True)
     assert bad.returncode == 2 and "unknown component 'fork'" in bad.stderr
+
+
+def test_state_of_the_art_stiffness_analytic():
+    """The literature's static tests on the shipped validation tube (along x, clamped at O):
+    a moment about z at the tip gives k = E I / L; a lateral force F at the tip, about the axis
+    through the clamp, gives eq. (8) with b = L and the Timoshenko tip deflection
+    y = F L^3 / (3 E I) + F L / (kappa G A) (Cowper's kappa for a thin tube)."""
+    tube = load_component("tube").clamped_reduced()
+    length, d_out, wall, modulus, shear = 0.6, 0.04, 0.002, 2.1e11, 8.1e10
+    d_in = d_out - 2 * wall
+    inertia = np.pi / 64 * (d_out**4 - d_in**4)
+    area = np.pi / 4 * (d_out**2 - d_in**2)
+    nu, m2 = modulus / (2 * shear) - 1, (d_in / d_out) ** 2
+    kappa = 6 * (1 + nu) * (1 + m2) ** 2 / ((7 + 6 * nu) * (1 + m2) ** 2 + (20 + 12 * nu) * m2)
+    z_axis = np.array([0.0, 0.0, 1.0])
+    moment_k = lumped.state_of_the_art_stiffness(tube, z_axis)
+    assert moment_k == pytest.approx(modulus * inertia / length, rel=1e-6)
+    y = length**3 / (3 * modulus * inertia) + length / (kappa * shear * area)
+    force_k = lumped.state_of_the_art_stiffness(tube, z_axis, np.zeros(3), "lateral_force")
+    assert force_k == pytest.approx(length / np.arcsin(y / length), rel=1e-5)
+    assert lumped.SOTA_LOAD["front_assembly"] == "lateral_force"   # Sect. 5.2.2

@@ -60,6 +60,9 @@ def test_accuracy_verb_end_to_end(verb_run):
     assert (plots / "fig9_front_assembly.png").stat().st_size > 10_000
 
 
+@pytest.mark.xfail(strict=True, reason="ours: alike on wobble (f 6.7 vs 6.2 %, Re 38.1 vs 39.1 %) "
+                   "but not on the weave real part (2.8 vs 1.5 %) once the state-of-the-art "
+                   "stiffness is measured, as the paper says, with a lateral force at the axle")
 def test_published_state_of_the_art_and_bending_alike_for_front_assembly(verb_run):
     """Sect. 5.2.2: for the front assembly the state-of-the-art and the bending models give
     very similar results (the bending axis is almost perpendicular to the fork)."""

@@ -41,10 +41,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.vehicle.model import Body, Joint
 
 __all__ = ["VARIANTS", "COMPONENTS", "GAMMA", "FlexJoint", "ComponentSite", "site_of",
-           "axis_in_vehicle", "state_of_the_art_axis", "state_of_the_art_stiffness",
+           "axis_in_vehicle", "state_of_the_art_axis", "state_of_the_art_stiffness", "SOTA_LOAD",
            "check_site", "reattach", "flex_joints", "lumped_vehicle",
            "mass_properties", "MOUNTS"]
 
@@ -109,16 +110,29 @@ def axis_in_vehicle(site, l, beta):
     return site.origin + l * e0, direction
 
 
-def state_of_the_art_stiffness(reduced, axis):
-    """Stiffness [N m/rad] about ``axis`` from a static moment about it at the loaded end.
+SOTA_LOAD = {"frame": "moment", "front_assembly": "lateral_force", "swingarm": "moment"}
+"""How the literature measures each component's stiffness (Sect. 5.2.1-5.2.3): a static moment
+about the joint axis (frame: at the steering head; swingarm: parallel to x at the wheel axis) or
+a static lateral force at the wheel axis (front assembly, after [11])."""
 
-    The literature's models (Sect. 5.2.1-5.2.3) measure k as the moment divided by the loaded
-    end's rotation about the same axis: k = 1 / (a^T theta(a)), theta(a) the rotation [rad]
-    under a unit moment [N m] about a (the reduced clamped model's static response).
+
+def state_of_the_art_stiffness(reduced, axis, point=None, load="moment"):
+    """Stiffness [N m/rad] of the literature's joint from a static test on the clamped model.
+
+    ``load="moment"``: a moment about ``axis`` at the loaded end divided by the end's rotation
+    about it, k = 1 / (a^T theta(a)), theta(a) [rad] under a unit moment [N m].
+    ``load="lateral_force"``: eq. (8) with a lateral force F_y at q0 and the arm b [m] of q0
+    about the axis through ``point`` (component frame), k = F b / asin(y_q / b).
     """
     a = np.asarray(axis, float) / np.linalg.norm(axis)
-    motion = reduced.static_end_motion(np.concatenate([np.zeros(3), a]))
-    return float(1.0 / (a @ motion[3:]))
+    if load == "moment":
+        motion = reduced.static_end_motion(np.concatenate([np.zeros(3), a]))
+        return float(1.0 / (a @ motion[3:]))
+    force = 1.0
+    motion = reduced.static_end_motion([0.0, force, 0.0, 0.0, 0.0, 0.0])
+    r = reduced.q0 - np.asarray(point, float)
+    arm = float(np.linalg.norm(r - (r @ a) * a))
+    return float(axis_stiffness(force, motion[1], arm))
 
 
 def _perpendicular_in_plane(direction):

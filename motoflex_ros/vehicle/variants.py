@@ -56,7 +56,9 @@ def build_variant(vehicle, variant, names, identified, components):
         if variant == "state_of_the_art":
             point, axis = lumped.state_of_the_art_axis(name, site, _steer_axis(vehicle))
             reduced = components[name].clamped_reduced()
-            sota = (point, axis, lumped.state_of_the_art_stiffness(reduced, axis))
+            k = lumped.state_of_the_art_stiffness(reduced, axis, point - site.origin,
+                                                  lumped.SOTA_LOAD[name])
+            sota = (point, axis, k)
         joints[name] = lumped.flex_joints(variant, name, identified, site, sota)
     return lumped.lumped_vehicle(vehicle, variant, joints)
 
