@@ -4,6 +4,7 @@ The identified parameters used here come straight from the clamped finite-elemen
 response, mode-shape axes, eq. 10 with the modal frequency), an independent path from the
 time-domain bench, so these tests pin the vehicle side alone.
 """
+import re
 from dataclasses import replace
 
 import numpy as np
@@ -171,3 +172,13 @@ def test_state_of_the_art_stiffness_analytic():
     force_k = lumped.state_of_the_art_stiffness(tube, z_axis, np.zeros(3), "lateral_force")
     assert force_k == pytest.approx(length / np.arcsin(y / length), rel=1e-5)
     assert lumped.SOTA_LOAD["front_assembly"] == "lateral_force"   # Sect. 5.2.2
+
+
+@pytest.mark.parametrize("value, problem", [(None, "finite number"), (float("nan"), "finite"),
+                                            (-5.0, "out of the allowed range (> 0)"),
+                                            ("stiff", "finite number")])
+def test_bad_identified_stiffness_is_named(components, value, problem):
+    _, site, _ = components["frame"]
+    bad = {"frame": {"static": {"l": 0.3, "beta": 2.0, "k": value}}}
+    with pytest.raises(ConfigError, match=r"'frame\.static\.k'.*" + re.escape(problem)):
+        lumped.flex_joints("static", "frame", bad, site)

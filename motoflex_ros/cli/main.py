@@ -53,6 +53,10 @@ def main(argv=None):
         # the reader went away (e.g. `motoflex bag info ... | head`): stop quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except OSError as exc:
+        # a file or folder the user named cannot be read or written
+        print(f"motoflex {args.verb}: error: {exc}", file=sys.stderr)
+        return 2
     return int(code or 0)
 
 

@@ -167,6 +167,15 @@ def _need(identified, component, *keys):
             raise ConfigError("identification results", path, "missing (run motoflex identify "
                                                               "or give a complete result file)")
         value = value[key]
+    name = keys[-1]
+    positive = name.startswith("k")           # stiffness [N m/rad]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
+        raise ConfigError("identification results", path, f"expected a finite number, got "
+                                                          f"{value!r}")
+    if (positive and value <= 0) or (name in ("J", "c") and value < 0):
+        allowed = "> 0" if positive else ">= 0"
+        raise ConfigError("identification results", path,
+                          f"value {value:g} is out of the allowed range ({allowed})")
     return float(value)
 
 
