@@ -152,3 +152,29 @@ def test_campaign_fault_named_and_clean(tmp_path, victim):
     info = mcap_bag.bag_info(bag)
     assert info.count(f"/bench/{COMPONENT}/load") > 0
     assert not (bag / "identification.json").exists()
+
+
+def test_killed_launcher_leaves_no_node(tmp_path):
+    """SIGKILL of the motoflex campaign process itself: its nodes notice they lost their
+    launcher and stop; the bag is finished by its recorder."""
+    bag = tmp_path / "run"
+    proc = _campaign(tmp_path, "--out", str(bag), "--report", "none")
+    try:
+        deadline = time.monotonic() + 120
+        mcap = bag / "run_0.mcap"
+        while not (mcap.exists() and mcap.stat().st_size > 20000):
+            assert proc.poll() is None, proc.communicate()
+            assert time.monotonic() < deadline
+            time.sleep(0.1)
+        assert _our_processes(str(tmp_path))
+        proc.kill()
+        proc.communicate()
+        deadline = time.monotonic() + 60
+        while _our_processes(str(tmp_path)) and time.monotonic() < deadline:
+            time.sleep(0.2)
+        left = _our_processes(str(tmp_path))
+    finally:
+        for pid in _our_processes(str(tmp_path)):
+            os.kill(pid, signal.SIGKILL)
+    assert left == []
+    assert mcap_bag.bag_info(bag).count(f"/bench/{COMPONENT}/load") > 0

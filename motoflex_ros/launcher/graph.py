@@ -45,7 +45,8 @@ def ros_env(domain_id, log_dir, base=None):
     """Environment of a node process: own domain, localhost discovery, logs in ``log_dir``."""
     env = dict(os.environ if base is None else base)
     env.update(ROS_DOMAIN_ID=str(domain_id), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-               ROS_LOG_DIR=str(log_dir), OPENBLAS_NUM_THREADS="1", PYTHONUNBUFFERED="1")
+               ROS_LOG_DIR=str(log_dir), OPENBLAS_NUM_THREADS="1", PYTHONUNBUFFERED="1",
+               MOTOFLEX_PARENT_PID=str(os.getpid()))   # nodes stop if the launcher dies
     env.pop("ROS_LOCALHOST_ONLY", None)
     return env
 

@@ -50,8 +50,9 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
     start = time.monotonic()
     try:
         with DomainLock() as lock:
-            graph = NodeGraph(specs, lock.domain_id, work_dir).start()
+            graph = NodeGraph(specs, lock.domain_id, work_dir)
             try:
+                graph.start()   # inside the try: a failure half-way stops what started
                 collected = _monitor(graph, pacer, duration_s, collect, progress,
                                      ready_timeout, (finishers, finish_timeout, drain_timeout))
             except BaseException:

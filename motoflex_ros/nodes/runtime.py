@@ -231,9 +231,12 @@ def run_node(node_class, args=None):
         return 2
     spinner = FastSpinner(node)
     profile = _profiler()
+    launcher = os.environ.get("MOTOFLEX_PARENT_PID")
     try:
         while not stop and not node.finished:
             node.step(spinner)
+            if launcher and os.getppid() != int(launcher):
+                stop.append("launcher gone")   # the motoflex process that started us died
     except MotoflexError as exc:
         node.get_logger().error(str(exc))
         node.exit_code = 2
