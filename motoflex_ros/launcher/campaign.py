@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from motoflex_ros.launcher.graph import NodeSpec
-from motoflex_ros.launcher.run import run_graph
+from motoflex_ros.launcher.run import RunFailed, run_graph
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
            "planned_duration", "RESULT_FILE"]
@@ -101,6 +101,9 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
                     work_dir=work_dir, progress=progress, finishers=finishers,
                     collect=[("/vehicle/eigenvalues", _diagnostic_array())])
     result_file = bag / RESULT_FILE
+    if not result_file.is_file():
+        raise RunFailed(f"the identification node wrote no {RESULT_FILE} in {bag}; its log: "
+                        f"{Path(work_dir) / 'log' / 'identification.log'}")
     results = json.loads(result_file.read_text())
     eig = run.collected["/vehicle/eigenvalues"]
     vehicle = {s.name.split("/")[1]: {kv.key: json.loads(kv.value) for kv in s.values}

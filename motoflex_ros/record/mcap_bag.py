@@ -10,9 +10,8 @@ The MCAP file is written in place (so that a killed writer leaves something :fun
 salvage up to the last complete chunk); ``metadata.yaml`` is written atomically on close.
 """
 import functools
-import os
+import io
 import struct
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -325,14 +324,9 @@ def repair(path, chunk_size=DEFAULT_CHUNK_SIZE):
     """
     mcap_file = find_mcap(path)
     schemas, channels, messages = _salvage(mcap_file)
-    fd, tmp = tempfile.mkstemp(dir=mcap_file.parent, prefix=".repair.", suffix=".mcap.tmp")
-    try:
-        with os.fdopen(fd, "wb") as stream:
-            _rewrite(stream, schemas, channels, messages, chunk_size)
-        os.replace(tmp, mcap_file)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    stream = io.BytesIO()
+    _rewrite(stream, schemas, channels, messages, chunk_size)
+    atomic_write_bytes(mcap_file, stream.getvalue())
     counts = {}
     for message in messages:
         counts[message.channel_id] = counts.get(message.channel_id, 0) + 1

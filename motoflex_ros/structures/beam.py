@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from motoflex_ros.errors import ModelError
+
 __all__ = ["Section", "Material", "tube_section", "rectangular_tube_section", "poisson_ratio",
            "element_frames", "local_stiffness", "local_mass", "global_element_matrices"]
 
@@ -97,7 +99,8 @@ def element_frames(xyz1, xyz2, up):
     ez = np.cross(ex, np.asarray(up, float))
     nz = np.linalg.norm(ez, axis=1)
     if np.any(nz < 1e-8):
-        raise ValueError("element orientation vector is parallel to the element axis")
+        raise ModelError("a member's orientation vector ('up') is parallel to the member "
+                         "axis; give an 'up' vector across the member")
     ez /= nz[:, None]
     ey = np.cross(ez, ex)
     return length, np.stack([ex, ey, ez], axis=1)

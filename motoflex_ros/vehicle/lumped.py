@@ -42,6 +42,7 @@ import numpy as np
 
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.identify.axis import axis_stiffness
+from motoflex_ros.identify.stiffness import GAMMA_S
 from motoflex_ros.vehicle.model import Body, Joint
 
 __all__ = ["VARIANTS", "COMPONENTS", "GAMMA", "FlexJoint", "ComponentSite", "site_of",
@@ -51,7 +52,7 @@ __all__ = ["VARIANTS", "COMPONENTS", "GAMMA", "FlexJoint", "ComponentSite", "sit
 
 VARIANTS = ("rigid", "state_of_the_art", "static", "torsion", "bending", "decomposed")
 COMPONENTS = ("frame", "front_assembly", "swingarm")
-GAMMA = 1e-3
+GAMMA = GAMMA_S
 """Proportionality constant of the static models' damping c = gamma k [s] (Sect. 5.2.4)."""
 
 MOUNTS = {

@@ -29,6 +29,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from motoflex_ros.errors import ModelError
 from motoflex_ros.structures.clamped import reduce_clamped
 from motoflex_ros.vehicle.model import Body, Joint
 from motoflex_ros.vehicle.spatial import cross
@@ -109,7 +110,8 @@ def superelement_of(component, parent, n_modes=20, f_max_hz=600.0, zeta=0.01):
     keep = np.arange(n_clamp, cb.K.shape[0])
     end = 6 * list(component.interface_nodes).index(component.loaded_end) - n_clamp
     if end != 0:
-        raise ValueError("the loaded end must be the first non-clamped interface node")
+        raise ModelError(f"component '{component.name}': the loaded end must be the first "
+                         "interface node after the clamps")
     reduced = reduce_clamped(component.name, cb, keep, end + np.arange(6), component.q0,
                              asm.expand, zeta)
     gamma = _assembled_rigid_field(asm, component.node_xyz + component.origin)
