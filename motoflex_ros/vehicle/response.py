@@ -87,12 +87,17 @@ def regular_part(E, A, b, rtol=1e-10):
 def steer_pulse_response(lin, speed, torque=20.0, duration=0.05, t_end=4.0, dt=0.005,
                          outputs=None):
     """Response to a steer-torque pulse of ``torque`` [N m] for ``duration`` [s] at ``speed``
-    [m/s], sampled every dt [s] to t_end [s]. outputs: state names (default: steer, roll and
-    yaw rates). A singular E (massless bodies) is reduced by :func:`regular_part`."""
+    [m/s], sampled every dt [s] to t_end [s]. outputs: state names (default: the steer angle,
+    the roll rate and, where it is a state (tyred wheels), the yaw rate). A singular E (massless
+    bodies) is reduced by :func:`regular_part`."""
     joint = lin.system.model.roles.get("steer")
     if joint is None:
         raise ModelError(f"{lin.system.model.source}: no 'steer' role to apply the pulse to")
-    names = tuple(outputs or (joint, "roll_rate", "yaw_rate"))
+    default = [joint, "roll_rate"] + (["yaw_rate"] if "yaw_rate" in lin.state_names else [])
+    names = tuple(outputs or default)
+    unknown = [n for n in names if n not in lin.state_names]
+    if unknown:
+        raise ModelError(f"no state {unknown[0]!r}; states: {', '.join(lin.state_names)}")
     rows = [lin.state_names.index(name) for name in names]
     E, A = lin.pencil([speed])
     a, b, to_x, feed = regular_part(E[0], A[0], joint_input(lin, joint))
