@@ -19,10 +19,13 @@ import yaml
 
 from motoflex_ros.errors import ConfigError
 
-__all__ = ["Field", "number", "positive", "angle", "validate", "load_yaml", "load_config",
-           "config_path", "resolve_config", "shipped_configs"]
+__all__ = ["MOTORCYCLE_COMPONENTS", "Field", "number", "positive", "angle", "validate",
+           "load_yaml", "load_config", "config_path", "resolve_config", "shipped_configs"]
 
 _INF = math.inf
+
+MOTORCYCLE_COMPONENTS = ("frame", "front_assembly", "swingarm")
+"""The paper's three components, each with a shipped config/components/<name>.yaml."""
 
 
 @dataclass(frozen=True)

@@ -10,10 +10,11 @@ import time
 from pathlib import Path
 
 from motoflex_ros.cli.output import emit_json, print_table
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
 __all__ = ["register", "run"]
 
-DEFAULT_COMPONENTS = ("frame", "front_assembly", "swingarm")
+DEFAULT_COMPONENTS = MOTORCYCLE_COMPONENTS
 
 
 def register(subparsers):

@@ -12,10 +12,11 @@ from pathlib import Path
 import yaml
 
 from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table, to_jsonable
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
 __all__ = ["register", "run", "write_results", "DEFAULT_COMPONENTS"]
 
-DEFAULT_COMPONENTS = ("frame", "front_assembly", "swingarm")
+DEFAULT_COMPONENTS = MOTORCYCLE_COMPONENTS
 
 
 def register(subparsers):

@@ -3,12 +3,12 @@ and the components placed in the motorcycle."""
 import sys
 from pathlib import Path
 
-from motoflex_ros.config import load_yaml
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS, load_yaml
 from motoflex_ros.errors import ConfigError
 
 __all__ = ["COMPONENTS", "identification_results", "motorcycle_components"]
 
-COMPONENTS = ("frame", "front_assembly", "swingarm")
+COMPONENTS = MOTORCYCLE_COMPONENTS
 
 
 def identification_results(path=None, components=COMPONENTS, seed=0):

@@ -6,9 +6,11 @@ as fast as possible. With --identify FILE: replays the bench topics into a fresh
 node on a private domain and writes its results to FILE (the format of ``motoflex identify
 --out``), which reproduces the live run's identification.json.
 """
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+
 __all__ = ["register", "run", "bag_components"]
 
-CANONICAL = ("frame", "front_assembly", "swingarm")
+CANONICAL = MOTORCYCLE_COMPONENTS
 
 
 def register(subparsers):

@@ -21,13 +21,13 @@ import numpy as np
 from motoflex_ros.cli.inputs import identification_results
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.cli.study_accuracy import register_accuracy
-from motoflex_ros.config import resolve_config
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS, resolve_config
 from motoflex_ros.errors import ConfigError
 
 __all__ = ["register", "run", "SUBCOMMANDS"]
 
 _ARGS = "command line"
-_COMPONENTS = ("frame", "front_assembly", "swingarm")
+_COMPONENTS = MOTORCYCLE_COMPONENTS
 
 
 def _register_sensitivity(sub):

@@ -12,6 +12,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.launcher.graph import NodeSpec
 from motoflex_ros.launcher.run import RunFailed, run_graph
 
@@ -37,7 +38,7 @@ class CampaignOutcome:
 
 VEHICLE_TOPICS = ("/vehicle/eigenvalues", "/vehicle/joint_states", "/vehicle/bodies",
                   "/vehicle/joint_axes")
-VEHICLE_COMPONENTS = ("frame", "front_assembly", "swingarm")
+VEHICLE_COMPONENTS = MOTORCYCLE_COMPONENTS
 
 
 def with_vehicle(components):

@@ -9,11 +9,12 @@ The phase message ends a component's campaign with an end marker.
 """
 from collections import deque
 
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.nodes.params import Param
 
 __all__ = ["BENCH_PARAMS", "topic", "frame_id", "campaign_setups", "SampleJoin"]
 
-COMPONENTS = ("frame", "front_assembly", "swingarm")
+COMPONENTS = MOTORCYCLE_COMPONENTS
 
 BENCH_PARAMS = (
     Param("components", COMPONENTS, description="components, in campaign order"),

@@ -24,6 +24,7 @@ from geometry_msgs.msg import PoseArray
 from sensor_msgs.msg import JointState
 from visualization_msgs.msg import Marker
 
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.nodes.conversions import (
     axis_marker,
     joint_state_msg,
@@ -45,7 +46,7 @@ class VehicleSimulatorNode(RigNode):
 
     NAME = "vehicle_simulator"
     PARAMS = (
-        Param("components", ("frame", "front_assembly", "swingarm"),
+        Param("components", MOTORCYCLE_COMPONENTS,
               description="components whose identified models go into the vehicle"),
         Param("vehicle", "touring", description="vehicle name or YAML file"),
         Param("variant", "static", choices=("static", "torsion", "bending", "decomposed"),

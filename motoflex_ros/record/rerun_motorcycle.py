@@ -186,13 +186,13 @@ def log_motorcycle(rec, model, speed_mps=100 / 3.6, modes=None, road_test=True):
 def vehicle_model(vehicle="touring", identified=None):
     """(VehicleModel, description): the lumped 'static' variant of all components identified in
     ``identified`` (identify-format dict) when it can be built, else the rigid ``vehicle``."""
-    from motoflex_ros.config import resolve_config
+    from motoflex_ros.config import MOTORCYCLE_COMPONENTS, resolve_config
     from motoflex_ros.errors import MotoflexError
     from motoflex_ros.structures import load_component
     from motoflex_ros.vehicle.model import load_vehicle
     from motoflex_ros.vehicle.variants import build_variant
     rigid = load_vehicle(resolve_config("vehicles", vehicle))
-    names = [n for n in ("frame", "front_assembly", "swingarm") if n in (identified or {})]
+    names = [n for n in MOTORCYCLE_COMPONENTS if n in (identified or {})]
     if not names:
         return rigid, f"{vehicle} (rigid)"
     try:

@@ -1,8 +1,10 @@
 """Published targets of the paper's components (Passigato et al. 2023, Tables 1 and 2)."""
 
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+
 __all__ = ["paper_table1_eigenfrequencies", "paper_table2_stiffness", "COMPONENTS"]
 
-COMPONENTS = ("frame", "front_assembly", "swingarm")
+COMPONENTS = MOTORCYCLE_COMPONENTS
 
 
 def paper_table1_eigenfrequencies():

@@ -40,6 +40,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.stiffness import GAMMA_S
@@ -51,7 +52,7 @@ __all__ = ["VARIANTS", "COMPONENTS", "GAMMA", "FlexJoint", "ComponentSite", "sit
            "mass_properties", "MOUNTS"]
 
 VARIANTS = ("rigid", "state_of_the_art", "static", "torsion", "bending", "decomposed")
-COMPONENTS = ("frame", "front_assembly", "swingarm")
+COMPONENTS = MOTORCYCLE_COMPONENTS
 GAMMA = GAMMA_S
 """Proportionality constant of the static models' damping c = gamma k [s] (Sect. 5.2.4)."""
 
