@@ -113,6 +113,16 @@ def _replay_reproduces(tmp_path, bag, live):
     assert _our_processes(str(tmp_path)) == []
 
 
+def _wait_for_recording(proc, bag, size=20000, timeout=120):
+    """Wait until the running campaign's MCAP has grown past ``size`` bytes."""
+    deadline = time.monotonic() + timeout
+    mcap = bag / "run_0.mcap"
+    while not (mcap.exists() and mcap.stat().st_size > size):
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() < deadline
+        time.sleep(0.1)
+
+
 @pytest.mark.parametrize("victim", ["load_actuator", "component_simulator",
                                     "displacement_sensor", "identification", "recorder",
                                     "SIGINT"])
@@ -120,12 +130,7 @@ def test_campaign_fault_named_and_clean(tmp_path, victim):
     bag = tmp_path / "run"
     proc = _campaign(tmp_path, "--out", str(bag), "--report", "none")
     try:
-        deadline = time.monotonic() + 120
-        mcap = bag / "run_0.mcap"
-        while not (mcap.exists() and mcap.stat().st_size > 20000):
-            assert proc.poll() is None, proc.communicate()
-            assert time.monotonic() < deadline
-            time.sleep(0.1)
+        _wait_for_recording(proc, bag)
         if victim == "SIGINT":
             proc.send_signal(signal.SIGINT)
         else:
@@ -160,12 +165,7 @@ def test_killed_launcher_leaves_no_node(tmp_path):
     bag = tmp_path / "run"
     proc = _campaign(tmp_path, "--out", str(bag), "--report", "none")
     try:
-        deadline = time.monotonic() + 120
-        mcap = bag / "run_0.mcap"
-        while not (mcap.exists() and mcap.stat().st_size > 20000):
-            assert proc.poll() is None, proc.communicate()
-            assert time.monotonic() < deadline
-            time.sleep(0.1)
+        _wait_for_recording(proc, bag)
         assert _our_processes(str(tmp_path))
         proc.kill()
         proc.communicate()
