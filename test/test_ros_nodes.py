@@ -93,13 +93,19 @@ def test_recorder_existing_bag_clear_error(tmp_path, env):
     assert sorted(p.name for p in (tmp_path / "bag").iterdir()) == ["other.txt"]
 
 
-@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
-def test_recorder_finishes_bag_on_signal_roundtrip(tmp_path, env, signum):
-    bag = tmp_path / "bag"
+def _recorder_with_clock(env, bag):
+    """A recorder of /clock (small chunks) and a lock-step sim_clock waiting for its acks."""
     recorder = _node("recorder", env, f"bag:={bag}", "topics:=['/clock']", "ack:=true",
                      "chunk_size:=4096")
     clock = _node("sim_clock", env, "dt:=0.001", "duration:=1000.0", "window:=20",
                   "ack_from:=['recorder']", "stall_timeout:=60.0")
+    return recorder, clock
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_recorder_finishes_bag_on_signal_roundtrip(tmp_path, env, signum):
+    bag = tmp_path / "bag"
+    recorder, clock = _recorder_with_clock(env, bag)
     try:
         _wait_for_file_size(bag / "bag_0.mcap", 20000, recorder)
         os.kill(recorder.pid, signum)
@@ -116,10 +122,7 @@ def test_recorder_finishes_bag_on_signal_roundtrip(tmp_path, env, signum):
 
 def test_recorder_sigkill_then_bag_repair_roundtrip(tmp_path, env):
     bag = tmp_path / "bag"
-    recorder = _node("recorder", env, f"bag:={bag}", "topics:=['/clock']", "ack:=true",
-                     "chunk_size:=4096")
-    clock = _node("sim_clock", env, "dt:=0.001", "duration:=1000.0", "window:=20",
-                  "ack_from:=['recorder']", "stall_timeout:=60.0")
+    recorder, clock = _recorder_with_clock(env, bag)
     try:
         _wait_for_file_size(bag / "bag_0.mcap", 30000, recorder)
         os.kill(recorder.pid, signal.SIGKILL)

@@ -3,10 +3,13 @@ and the components placed in the motorcycle."""
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS, load_yaml
 from motoflex_ros.errors import ConfigError
 
-__all__ = ["COMPONENTS", "identification_results", "motorcycle_components"]
+__all__ = ["COMPONENTS", "identification_results", "motorcycle_components",
+           "add_study_inputs", "study_speeds"]
 
 COMPONENTS = MOTORCYCLE_COMPONENTS
 
@@ -31,3 +34,22 @@ def motorcycle_components(names=COMPONENTS):
     from motoflex_ros.structures.components import load_component
 
     return {name: load_component(name) for name in names}
+
+
+def add_study_inputs(parser):
+    """The options every study shares: --identified FILE and --vehicle."""
+    parser.add_argument("--identified", metavar="FILE",
+                        help="identification results (YAML/JSON of motoflex identify --out)")
+    parser.add_argument("--vehicle", default="touring", help="vehicle YAML or shipped name")
+
+
+def study_speeds(step_kmh, max_step_kmh):
+    """The paper's speed grid [m/s]: 40 to 210 km/h in steps of ``step_kmh``, 210 included."""
+    if not 0 < step_kmh <= max_step_kmh:
+        raise ConfigError("command line", "--step-kmh",
+                          f"must be in (0, {max_step_kmh:g}] km/h, got {step_kmh:g}")
+    count = int(np.floor(170.0 / step_kmh + 1e-9)) + 1
+    kmh = 40.0 + step_kmh * np.arange(count)
+    if kmh[-1] < 210.0 - 1e-9:
+        kmh = np.append(kmh, 210.0)
+    return kmh / 3.6

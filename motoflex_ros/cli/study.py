@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from motoflex_ros.cli.inputs import identification_results
+from motoflex_ros.cli.inputs import add_study_inputs, identification_results, study_speeds
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.cli.study_accuracy import register_accuracy
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS, resolve_config
@@ -39,11 +39,9 @@ def _register_sensitivity(sub):
                    help="relative half-range of the stiffnesses (default 0.10)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on Dask: a scheduler address (tcp://host:8786) or 'local'")
-    p.add_argument("--identified", metavar="FILE",
-                   help="identification results (YAML/JSON of motoflex identify --out)")
+    add_study_inputs(p)
     p.add_argument("--nominal", choices=("identified", "table2"), default="identified",
                    help="nominal k_t, k_b: identified (default) or the paper's Table 2")
-    p.add_argument("--vehicle", default="touring", help="vehicle YAML or shipped name")
     p.add_argument("--step-kmh", type=float, default=1.0, help="speed step [km/h] (default 1)")
     p.add_argument("--json", action="store_true", help="print JSON only")
     p.add_argument("--plot", metavar="DIR", help="write the Fig. 10 bar chart and curves (PNG)")
@@ -77,16 +75,6 @@ def _with_table2(identified):
     if missing:
         raise ConfigError("identification results", missing[0], "missing")
     return with_stiffness(identified, PAPER_TABLE2_NOMINAL)
-
-
-def _speeds(step_kmh):
-    if not step_kmh > 0 or step_kmh > 10:
-        raise ConfigError(_ARGS, "--step-kmh", f"must be in (0, 10] km/h, got {step_kmh:g}")
-    count = int(np.floor(170.0 / step_kmh + 1e-9)) + 1
-    kmh = 40.0 + step_kmh * np.arange(count)
-    if kmh[-1] < 210.0 - 1e-9:
-        kmh = np.append(kmh, 210.0)
-    return kmh / 3.6
 
 
 def _print_tables(result, seconds, stream):
@@ -123,7 +111,7 @@ def run_sensitivity_verb(args):
     from motoflex_ros.vehicle.model import load_vehicle
 
     full_factorial(PAPER_TABLE2_NOMINAL, args.levels, args.rel_range)  # check before the work
-    speeds = _speeds(args.step_kmh)
+    speeds = study_speeds(args.step_kmh, 10.0)
     vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
     identified = identification_results(args.identified)
     if args.nominal == "table2":

@@ -12,13 +12,16 @@ writes the Fig. 8 bars and the Fig. 9 curves of the front assembly.
 import sys
 from pathlib import Path
 
-import numpy as np
 from tqdm import tqdm
 
-from motoflex_ros.cli.inputs import identification_results, motorcycle_components
+from motoflex_ros.cli.inputs import (
+    add_study_inputs,
+    identification_results,
+    motorcycle_components,
+    study_speeds,
+)
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.config import resolve_config
-from motoflex_ros.errors import ConfigError
 
 __all__ = ["register_accuracy", "run_accuracy"]
 
@@ -27,20 +30,11 @@ def register_accuracy(sub):
     """Add the ``accuracy`` study to the ``study`` verb's subparsers."""
     p = sub.add_parser("accuracy", help="e_RMS%% of lumped models vs flexible (Figs 8-9)",
                        description=__doc__.splitlines()[0])
-    p.add_argument("--identified", metavar="FILE",
-                   help="identification results (YAML/JSON of motoflex identify --out)")
-    p.add_argument("--vehicle", default="touring", help="vehicle YAML or shipped name")
+    add_study_inputs(p)
     p.add_argument("--step-kmh", type=float, default=5.0, help="speed step [km/h] (default 5)")
     p.add_argument("--json", action="store_true", help="print JSON only")
     p.add_argument("--plot", metavar="DIR", help="write Fig. 8 bars and Fig. 9 curves (PNG)")
     p.set_defaults(func=run_accuracy)
-
-
-def _speeds(step_kmh):
-    if not (0 < step_kmh <= 85):
-        raise ConfigError("command line", "--step-kmh",
-                          f"must be in (0, 85] km/h, got {step_kmh:g}")
-    return np.unique(np.append(np.arange(40.0, 210.0, step_kmh), 210.0)) / 3.6
 
 
 def _print(result, stream):
@@ -57,7 +51,7 @@ def run_accuracy(args):
     from motoflex_ros.study.lumped_accuracy import ACCURACY_VARIANTS, CASES, accuracy_study
     from motoflex_ros.vehicle.model import load_vehicle
 
-    speeds = _speeds(args.step_kmh)
+    speeds = study_speeds(args.step_kmh, 85.0)
     vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
     identified = identification_results(args.identified)
     components = motorcycle_components()
