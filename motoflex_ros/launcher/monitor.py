@@ -33,11 +33,18 @@ class Monitor(Node):
     def _on_clock(self, msg):
         self.sim_ns = max(self.sim_ns, time_ns(msg.clock))
 
-    def wait_ready(self, graph, pacer, timeout):
-        """Wait until every node announced itself on /rig/ready (or the pacer already ended)."""
+    def wait_ready(self, graph, pacer, timeout, finishers=()):
+        """Wait until every node announced itself on /rig/ready (or the pacer already ended).
+
+        A finisher may legitimately be done before its ready message reached us (a fast
+        replay): one that exited 0 counts as up, and is not a death.
+        """
         deadline = time.monotonic() + timeout
-        while not self.names <= self.ready and pacer not in graph.exited():
-            graph.check_alive(allowed=(pacer,))
+        while pacer not in graph.exited():
+            done = _finished(graph, finishers)
+            if self.names <= self.ready | set(done):
+                return
+            graph.check_alive(allowed=(pacer, *done))
             if time.monotonic() > deadline:
                 missing = ", ".join(sorted(self.names - self.ready))
                 raise NodeDied(f"nodes not up after {timeout:g} s: {missing}")
@@ -59,8 +66,7 @@ class Monitor(Node):
                     if bar is not None:
                         bar.total = bar.n  # tests settle before their planned maximum
                     return
-                done = tuple(n for n in finishers if graph.exited().get(n) == 0)
-                graph.check_alive(allowed=(pacer, *done))
+                graph.check_alive(allowed=(pacer, *_finished(graph, finishers)))
         finally:
             if bar is not None:
                 bar.close()
@@ -89,6 +95,12 @@ class Monitor(Node):
         while quiet < 3 and time.monotonic() < deadline:
             quiet = quiet + 1 if self.spinner.spin_once(0.1) == 0 else 0
             graph.check_alive(allowed=done)
+
+
+def _finished(graph, names):
+    """Those of ``names`` that already exited 0."""
+    exited = graph.exited()
+    return tuple(n for n in names if exited.get(n) == 0)
 
 
 def _progress_bar(duration_s):

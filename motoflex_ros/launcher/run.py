@@ -82,8 +82,8 @@ def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending)
                signal_handler_options=SignalHandlerOptions.NO)
     try:
         monitor = Monitor(context, [s.name for s in graph.specs], collect)
-        monitor.wait_ready(graph, pacer, ready_timeout)
         finishers, finish_timeout, drain_timeout = ending
+        monitor.wait_ready(graph, pacer, ready_timeout, finishers)
         monitor.follow(graph, pacer, duration_s, progress, finishers)
         monitor.wait_finishers(graph, (pacer, *finishers), finish_timeout)
         monitor.drain(graph, (pacer, *finishers), drain_timeout)
