@@ -6,10 +6,11 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from motoflex_ros.config import config_path
+from motoflex_ros.identify.matrix_pencil import matrix_pencil_poles, unit_peak
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep
-from motoflex_ros.vehicle.response import joint_input, matrix_pencil_poles, steer_pulse_response
+from motoflex_ros.vehicle.response import joint_input, steer_pulse_response
 
 DT = 0.005
 
@@ -26,7 +27,8 @@ def _identified(lin, kmh, noise=0.0, seed=0):
     if noise:
         rng = np.random.default_rng(seed)
         free = free + noise * np.abs(free).max(axis=0) * rng.standard_normal(free.shape)
-    poles = matrix_pencil_poles(free, DT, order=None if not noise else lin.system.n_states)
+    order = lin.system.n_states if noise else None
+    poles = matrix_pencil_poles(unit_peak(free), DT, order=order)
     return poles, modal_sweep(lin, [speed])
 
 

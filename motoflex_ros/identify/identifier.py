@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.identify.decay import matrix_pencil_poles
+from motoflex_ros.identify.decay import decay_poles
 from motoflex_ros.identify.peaks import (
     RunningMean,
     axis_of_pose,
@@ -153,7 +153,7 @@ class _Decay:
             self.dt = sample.dt
 
     def reading(self, name):
-        poles = matrix_pencil_poles(np.array(self.poses), self.dt) if self.poses else []
+        poles = decay_poles(np.array(self.poses), self.dt) if self.poses else []
         return DecayReading(tuple(poles), len(self.poses), self.dt)
 
 

@@ -9,7 +9,7 @@ Modules: ``spatial`` (complex-safe vector helpers), ``model`` (dataclasses and d
 data), ``schema`` (YAML validation), ``kinematics`` (tree kinematics), ``contact`` (rolling
 contact on the toroidal tyre), ``tyre`` (linear and Magic Formula tyres), ``dynamics`` (Kane
 residual), ``linearize`` (complex-step linearization, speed polynomial), ``modes`` (MAC tracking
-of weave/wobble/capsize), ``response`` (steer-pulse response, matrix pencil).
+of weave/wobble/capsize), ``response`` (steer-pulse response).
 
 Public API::
 
@@ -20,7 +20,7 @@ Public API::
     lin.eigenvalues(v)                         # finite eigenvalues (QZ; massless bodies ok)
     lin.second_order()                         # M, C0, C1, K0, K2 (knife-edge wheels)
     sweep = modal_sweep(lin, speeds)           # weave, wobble, capsize tracked by MAC
-    steer_pulse_response(lin, v); matrix_pencil_poles(samples, dt)
+    steer_pulse_response(lin, v)               # poles back: identify.matrix_pencil
 
 Variants edit the model, never the engine: bodies (massless ones too), joints and wheels are
 plain frozen dataclasses (dataclasses.replace), and ``VehicleModel.elements`` takes force

@@ -6,10 +6,9 @@ x[k+1] = Phi x[k] + Gamma u[k] with [[Phi, Gamma], [0, I]] = expm([[A, B], [0, 0
 A = E^-1 A(v) and B = E^-1 b, b the input column of a joint torque (1 N m on the joint); a
 singular E (massless bodies) is first reduced to its regular part (index 1).
 
-Matrix pencil (Hua & Sarkar, IEEE Trans. ASSP 38(5), 1990): the free response after the pulse,
-y[k] = sum_i r_i z_i^k, is arranged in a (block) Hankel matrix Y (one block per output, pencil
-parameter L = N/2); with Y = U S V^H truncated to its M significant singular values, the poles
-are z_i = eig(pinv(V1) V2), V1/V2 the rows of V without the last/first one; s_i = ln(z_i)/dt.
+The free response after the pulse, y[k] = sum_i r_i z_i^k, gives weave and wobble back by the
+matrix pencil (:func:`motoflex_ros.identify.matrix_pencil.matrix_pencil_poles` on the outputs
+scaled by :func:`~motoflex_ros.identify.matrix_pencil.unit_peak`, pencil parameter L = N/2).
 """
 from dataclasses import dataclass
 
@@ -19,8 +18,7 @@ import scipy.linalg
 from motoflex_ros.errors import ModelError
 from motoflex_ros.vehicle.dynamics import residual
 
-__all__ = ["PulseResponse", "joint_input", "regular_part", "steer_pulse_response",
-           "matrix_pencil_poles"]
+__all__ = ["PulseResponse", "joint_input", "regular_part", "steer_pulse_response"]
 
 
 @dataclass(frozen=True)
@@ -112,22 +110,3 @@ def steer_pulse_response(lin, speed, torque=20.0, duration=0.05, t_end=4.0, dt=0
         z = phi @ z + gamma * u
     return PulseResponse(np.arange(steps) * dt, out, names, torque, pulse_steps * dt, speed)
 
-
-def matrix_pencil_poles(samples, dt, order=None, rtol=1e-9):
-    """Continuous-time poles [1/s] of free-response samples (k, m) by the matrix pencil.
-
-    order: model order M (default: the number of singular values above rtol * largest).
-    """
-    samples = np.atleast_2d(np.asarray(samples, float).T).T
-    count = samples.shape[0]
-    pencil = count // 2
-    blocks = [scipy.linalg.hankel(y[:count - pencil], y[count - pencil - 1:])
-              for y in samples.T]
-    scale = np.array([np.max(np.abs(y)) or 1.0 for y in samples.T])
-    hankel = np.vstack([blk / s for blk, s in zip(blocks, scale)])
-    _, sv, vh = np.linalg.svd(hankel, full_matrices=False)
-    if order is None:
-        order = int(np.sum(sv > rtol * sv[0]))
-    v = vh[:order].conj().T
-    z = np.linalg.eigvals(np.linalg.pinv(v[:-1]) @ v[1:])
-    return np.log(z.astype(complex)) / dt
