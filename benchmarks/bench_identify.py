@@ -19,7 +19,7 @@ import numpy as np  # noqa: E402
 from scipy import signal  # noqa: E402
 
 from motoflex_ros.bench.campaign import run_campaign, setup_campaign  # noqa: E402
-from motoflex_ros.bench.response import state_space  # noqa: E402
+from motoflex_ros.bench.response import lateral_state_space  # noqa: E402
 
 COMPONENTS = ("frame", "front_assembly", "swingarm")
 
@@ -35,7 +35,7 @@ def campaign(component):
 
 def lsim_baseline(setup, trace):
     """Time to simulate the same load history, test by test, with scipy.signal.lsim."""
-    system = state_space(setup.reduced)
+    system = lateral_state_space(setup.reduced)
     n = system.A.shape[0]
     c = np.zeros((6, n))
     c[np.arange(6), system.end_dofs] = 1.0

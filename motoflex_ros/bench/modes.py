@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.bench.response import state_space
+from motoflex_ros.bench.response import lateral_state_space
 from motoflex_ros.errors import ModelError
 
 __all__ = ["Mode", "ModeSet", "clamped_modes"]
@@ -64,7 +64,7 @@ def clamped_modes(reduced):
     the reduced component (``frequencies_hz``, ascending), whose labels they take; with light
     (modal) damping the order is the same.
     """
-    lam = np.linalg.eigvals(state_space(reduced).A)
+    lam = np.linalg.eigvals(lateral_state_space(reduced).A)
     lam = lam[lam.imag > 0]
     lam = lam[np.argsort(np.abs(lam))]
     if len(lam) != len(reduced.mode_labels):

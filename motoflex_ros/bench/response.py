@@ -25,8 +25,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-__all__ = ["StateSpace", "Discretisation", "state_space", "discretise", "ComponentSimulator",
-           "harmonic_peak_motion"]
+from motoflex_ros.structures.clamped import state_space
+
+__all__ = ["StateSpace", "Discretisation", "lateral_state_space", "discretise",
+           "ComponentSimulator", "harmonic_peak_motion"]
 
 LATERAL_FORCE = 1  # index of F_y in the loaded end's wrench (F_x, F_y, F_z, M_x, M_y, M_z)
 
@@ -50,17 +52,13 @@ class Discretisation:
     gamma1: np.ndarray
 
 
-def state_space(reduced):
-    """State-space model of a ReducedComponent loaded by F_y [N] at its loaded end."""
-    n = reduced.K.shape[0]
-    m_inv = np.linalg.inv(reduced.M)
-    a = np.zeros((2 * n, 2 * n))
-    a[:n, n:] = np.eye(n)
-    a[n:, :n] = -m_inv @ reduced.K
-    a[n:, n:] = -m_inv @ reduced.C
-    b = np.zeros(2 * n)
-    b[n:] = m_inv[:, reduced.end_dofs[LATERAL_FORCE]]
-    return StateSpace(a, b, np.asarray(reduced.end_dofs))
+def lateral_state_space(reduced):
+    """State-space model of a ReducedComponent loaded by F_y [N] at its loaded end.
+
+    The F_y column of :func:`motoflex_ros.structures.clamped.state_space`.
+    """
+    a, b = state_space(reduced)
+    return StateSpace(a, b[:, LATERAL_FORCE], np.asarray(reduced.end_dofs))
 
 
 def discretise(system, dt, omega=0.0):
@@ -95,7 +93,7 @@ class ComponentSimulator:
     """
 
     def __init__(self, reduced):
-        self.system = state_space(reduced)
+        self.system = lateral_state_space(reduced)
         self.K = np.asarray(reduced.K, float)
         self.unit_load = np.zeros(self.K.shape[0])
         self.unit_load[reduced.end_dofs[LATERAL_FORCE]] = 1.0

@@ -14,7 +14,8 @@ import scipy.linalg as sla
 
 from motoflex_ros.identify.axis import axis_stiffness, deformation_axis
 
-__all__ = ["ReducedComponent", "StaticResult", "label_mode", "end_pose", "modal_damping"]
+__all__ = ["ReducedComponent", "StaticResult", "label_mode", "end_pose", "modal_damping",
+           "state_space", "reduce_clamped"]
 
 LATERAL = (1, 3, 5)     # u_y, theta_x, theta_z at the loaded end
 PLANAR = (0, 2, 4)      # u_x, u_z, theta_y
@@ -168,23 +169,48 @@ class ReducedComponent:
         return mode_axis(self.mode_shapes[self.end_dofs, i], self.q0)
 
     def state_space(self):
-        """(A, B) of x' = A x + B w, x = (q, q'), w the loaded-end wrench [N, N m]."""
-        n = self.n
-        m_inv = np.linalg.inv(self.M)
-        a = np.zeros((2 * n, 2 * n))
-        a[:n, n:] = np.eye(n)
-        a[n:, :n] = -m_inv @ self.K
-        a[n:, n:] = -m_inv @ self.C
-        b = np.zeros((2 * n, 6))
-        b[n:, :] = m_inv[:, self.end_dofs]
-        return a, b
+        """(A, B) of x' = A x + B w, x = (q, q'), w the loaded-end wrench (:func:`state_space`)."""
+        return state_space(self)
+
+def state_space(reduced):
+    """State-space model of a clamped reduced component under a loaded-end wrench.
+
+    M q'' + C q' + K q = F w, F the columns of the loaded end's DOFs, written as
+    x' = A x + B w with x = (q, q') and
+
+        A = [[0, 1], [-M^-1 K, -M^-1 C]],   B = [[0], [M^-1 F]].
+
+    Parameters
+    ----------
+    reduced : ReducedComponent (or any object with M, K, C and end_dofs)
+        Mass [kg..], stiffness [N/m..] and damping [N s/m..] of the reduced coordinates q, and
+        the indices of the loaded end's six DOFs among them.
+
+    Returns
+    -------
+    A : ndarray (2n, 2n)
+        State matrix [1/s, 1/s^2].
+    B : ndarray (2n, 6)
+        Input matrix for w = (F_x, F_y, F_z, M_x, M_y, M_z) [N, N m] at the loaded end.
+
+    """
+    n = reduced.K.shape[0]
+    m_inv = np.linalg.inv(reduced.M)
+    a = np.zeros((2 * n, 2 * n))
+    a[:n, n:] = np.eye(n)
+    a[n:, :n] = -m_inv @ reduced.K
+    a[n:, n:] = -m_inv @ reduced.C
+    b = np.zeros((2 * n, 6))
+    b[n:, :] = m_inv[:, reduced.end_dofs]
+    return a, b
 
 
-def reduce_clamped(name, cb, keep, end_dofs, q0, expand, zeta):
+def reduce_clamped(name, cb, keep, end_dofs, q0, expand):
     """ReducedComponent from a Craig-Bampton model by deleting clamped boundary coordinates.
 
     ``keep`` are reduced-coordinate indices kept (free boundary DOFs then all modal ones);
-    ``expand`` (sparse) maps full-model DOFs to all node DOFs.
+    ``expand`` (sparse) maps full-model DOFs to all node DOFs. Every mode of the clamped
+    reduced model gets the Craig-Bampton model's damping ratio ``cb.zeta`` (:func:`modal_damping`).
     """
     m = cb.M[np.ix_(keep, keep)]
     k = cb.K[np.ix_(keep, keep)]
@@ -194,7 +220,7 @@ def reduce_clamped(name, cb, keep, end_dofs, q0, expand, zeta):
     labels = tuple(label_mode(phi[end_dofs, j], q0, _end_share(transform @ phi[:, j],
                                                                  end_dofs, phi[:, j], q0))
                    for j in range(len(freq)))
-    return ReducedComponent(name=name, M=m, K=k, C=modal_damping(m, k, zeta),
+    return ReducedComponent(name=name, M=m, K=k, C=modal_damping(m, k, cb.zeta),
                             end_dofs=np.asarray(end_dofs), q0=np.asarray(q0, float),
                             frequencies_hz=freq, mode_labels=labels, mode_shapes=phi,
                             transform=transform, n_modes=cb.n_modes)

@@ -94,7 +94,7 @@ class Component:
         keep = np.arange(n_clamp, cb.K.shape[0])
         end_pos = 6 * list(self.interface_nodes).index(self.loaded_end) - n_clamp
         end_dofs = end_pos + np.arange(6)
-        return reduce_clamped(self.name, cb, keep, end_dofs, self.q0, asm.expand, zeta)
+        return reduce_clamped(self.name, cb, keep, end_dofs, self.q0, asm.expand)
 
     def dof_count(self):
         """Number of DOFs of the full (unclamped, links eliminated) model."""

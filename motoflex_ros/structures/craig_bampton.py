@@ -9,8 +9,10 @@ DOFs into boundary b (all DOFs of the interface nodes, kept physical) and interi
     normal modes, mass-normalised).
 
 One sparse LU of K_ii (scipy splu in symmetric mode) serves both the constraint modes and the
-shift-invert eigsh (sigma = 0, OPinv = K_ii^-1). Modal damping: C = T^T C T with the interior
-block 2 zeta omega_j on the fixed-interface modes (boundary block undamped).
+shift-invert eigsh (sigma = 0, OPinv = K_ii^-1). The reduction carries no damping matrix, only
+the ratio zeta: the clamped reduced model gives each of its own modes that ratio
+(:func:`motoflex_ros.structures.clamped.modal_damping`), which damping on the fixed-interface
+modes alone would not (the loaded end's boundary DOFs would stay undamped).
 """
 from dataclasses import dataclass
 
@@ -27,15 +29,14 @@ __all__ = ["CraigBamptonModel", "craig_bampton", "symmetric_lu"]
 class CraigBamptonModel:
     """Reduced matrices in coordinates (u_b, eta): boundary DOFs first, then modal amplitudes.
 
-    M [kg..], K [N/m..], C [N s/m..] dense (n_b + n_m square); ``transform`` (sparse-dense,
+    M [kg..], K [N/m..] dense (n_b + n_m square); ``transform`` (sparse-dense,
     n_full x (n_b + n_m)) maps reduced coordinates to the full model's DOFs; ``boundary`` the
     full-model indices of the boundary DOFs; ``frequencies_hz`` the kept fixed-interface modal
-    frequencies [Hz]; ``zeta`` their damping ratio [-].
+    frequencies [Hz]; ``zeta`` the modal damping ratio [-] the reduced models are given.
     """
 
     M: np.ndarray
     K: np.ndarray
-    C: np.ndarray
     transform: np.ndarray
     boundary: np.ndarray
     frequencies_hz: np.ndarray
@@ -101,7 +102,8 @@ def craig_bampton(K, M, boundary, n_modes=20, f_max_hz=600.0, zeta=0.01):
     f_max_hz : float
         No mode above this frequency is kept [Hz] (default 600).
     zeta : float
-        Modal damping ratio of every kept mode [-] (default 0.01).
+        Modal damping ratio [-] (default 0.01), carried to the reduced models built from this
+        one (:func:`motoflex_ros.structures.clamped.reduce_clamped`).
 
     """
     K, M = sp.csc_matrix(K), sp.csc_matrix(M)
@@ -122,7 +124,5 @@ def craig_bampton(K, M, boundary, n_modes=20, f_max_hz=600.0, zeta=0.01):
     k_red = transform.T @ (K @ transform)
     m_red = transform.T @ (M @ transform)
     k_red, m_red = 0.5 * (k_red + k_red.T), 0.5 * (m_red + m_red.T)
-    c_red = np.zeros_like(k_red)
-    c_red[nb:, nb:] = np.diag(2 * zeta * 2 * np.pi * freq)
-    return CraigBamptonModel(M=m_red, K=k_red, C=c_red, transform=transform,
+    return CraigBamptonModel(M=m_red, K=k_red, transform=transform,
                              boundary=boundary, frequencies_hz=freq, zeta=float(zeta))

@@ -113,7 +113,7 @@ def superelement_of(component, parent, n_modes=20, f_max_hz=600.0, zeta=0.01):
         raise ModelError(f"component '{component.name}': the loaded end must be the first "
                          "interface node after the clamps")
     reduced = reduce_clamped(component.name, cb, keep, end + np.arange(6), component.q0,
-                             asm.expand, zeta)
+                             asm.expand)
     gamma = _assembled_rigid_field(asm, component.node_xyz + component.origin)
     transform = cb.transform[:, keep]
     mass = asm.M if sp.issparse(asm.M) else sp.csr_matrix(asm.M)
