@@ -82,6 +82,9 @@ def _table(results):
         for key, value in (("k", comp["static"]["k"]), ("k_t", comp["k_t"]),
                            ("k_b", comp["k_b"])):
             target = ref.get(key)
+            if value is None:  # eq. (12) split not identifiable (see split_problem)
+                rows.append([name, key, "n/a", f"{target:.4g}" if target else "", ""])
+                continue
             dev = f"{100.0 * (value / target - 1.0):+.1f} %" if target else ""
             rows.append([name, key, f"{value:.4g}", f"{target:.4g}" if target else "", dev])
     print_table(["component", "stiffness", "identified [N m/rad]", "paper Table 2", "deviation"],

@@ -6,6 +6,7 @@ modal test (Passigato et al. 2023, Sect. 4.2); prints a table or, with --json, t
 m, stiffness N m/rad), optionally writes them to a YAML/JSON file and the Figs. 5-7 plots.
 """
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -14,7 +15,7 @@ import yaml
 from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table, to_jsonable
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
-__all__ = ["register", "run", "write_results", "DEFAULT_COMPONENTS"]
+__all__ = ["register", "run", "write_results", "format_interval", "DEFAULT_COMPONENTS"]
 
 DEFAULT_COMPONENTS = MOTORCYCLE_COMPONENTS
 
@@ -40,17 +41,35 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
-def _table(results):
+def format_interval(bounds, spec=".4g"):
+    """'[lo, hi]' of a 95 % interval, or 'n/a' when it is undefined (None/NaN: one sample)."""
+    if bounds is None or any(v is None or not math.isfinite(v) for v in bounds):
+        return "n/a"
+    return f"[{bounds[0]:{spec}}, {bounds[1]:{spec}}]"
+
+
+def _number(value, spec=".4g"):
+    return "n/a" if value is None or not math.isfinite(value) else f"{value:{spec}}"
+
+
+def _table(results, stream=None):
+    stream = stream or sys.stdout
     rows = []
     for name, comp in results.items():
         for test in ("static", "torsion", "bending"):
             r = comp[test]
             rows.append([name, test, f"{r['l']:.4f}", f"{r['beta']:.4f}", f"{r['b']:.4f}",
-                         f"{r['k']:.4g}", f"{r.get('f_hz', 0.0):.2f}"])
-        rows.append([name, "split", "", "", "", f"k_t {comp['k_t']:.4g}",
-                     f"k_b {comp['k_b']:.4g}"])
+                         _number(r["k"]), format_interval(r["ci"].get("k")),
+                         f"{r.get('f_hz', 0.0):.2f}"])
+        for key in ("k_t", "k_b"):
+            rows.append([name, f"{key} (eq. 12)", "", "", "", _number(comp[key]),
+                         format_interval(comp["ci"].get(key)), ""])
     print_table(["component", "test", "l [m]", "beta [rad]", "b [m]", "k [N m/rad]",
-                 "f [Hz]"], rows)
+                 "k 95 % interval", "f [Hz]"], rows, stream)
+    for name, comp in results.items():
+        if comp.get("split_identifiable") is False:
+            stream.write(f"warning: {name}: k_t, k_b not identifiable: "
+                         f"{comp['split_problem']}\n")
 
 
 def write_results(path, results):

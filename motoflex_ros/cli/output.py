@@ -1,5 +1,6 @@
 """Shared output helpers of the CLI verbs: JSON to stdout, tables, atomic file writes."""
 import json
+import math
 import sys
 
 import numpy as np
@@ -10,7 +11,11 @@ __all__ = ["emit_json", "to_jsonable", "atomic_write_text", "print_table"]
 
 
 def to_jsonable(obj):
-    """Convert numpy scalars/arrays and tuples recursively into JSON-ready Python objects."""
+    """Convert numpy scalars/arrays and tuples recursively into JSON-ready Python objects.
+
+    Non-finite floats (NaN: an undefined value such as the interval of a single sample) become
+    None, i.e. null: strict JSON has no NaN.
+    """
     if isinstance(obj, dict):
         return {str(k): to_jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
@@ -18,7 +23,9 @@ def to_jsonable(obj):
     if isinstance(obj, np.ndarray):
         return to_jsonable(obj.tolist())
     if isinstance(obj, np.generic):
-        return obj.item()
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
     return obj
 
 

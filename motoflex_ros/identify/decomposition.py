@@ -10,14 +10,22 @@ k_b about the bending axis (beta_b, b_b) so that
 with u = b_b / k_b, w = b_t / k_t [rad/(N m) * m]. (12b) is linear in (u, w):
 u sin(beta - beta_b) = w sin(beta_t - beta); with (12a), b^2/k = b_b u + b_t w, it is a 2x2
 linear system.
+
+The solution is a pair of springs in series only if both are positive and finite. A negative
+k_t (or k_b) means the static deflection cannot be built from the two axes with positive
+springs, typically because the lateral load hardly excites that deformation (a straight tube
+loaded sideways does not twist): :func:`split_problem` says why such a split is not
+identifiable, and it must not be used as a stiffness.
 """
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from motoflex_ros.errors import ModelError
 
-__all__ = ["StiffnessSplit", "decompose_stiffness", "static_stiffness_from_split"]
+__all__ = ["StiffnessSplit", "decompose_stiffness", "static_stiffness_from_split",
+           "split_problem"]
 
 
 @dataclass(frozen=True)
@@ -54,6 +62,21 @@ def decompose_stiffness(k, beta, b, beta_t, b_t, beta_b, b_b):
         raise ModelError("eq. (12) is singular: the torsion and bending axes coincide")
     u, w = np.linalg.solve(a, rhs)
     return StiffnessSplit(k_t=float(b_t / w), k_b=float(b_b / u))
+
+
+def split_problem(k_t, k_b):
+    """Why an eq. (12) split k_t, k_b [N m/rad] is not identifiable, or None if it is.
+
+    Both must be positive and finite to be two springs in series about the torsion and bending
+    axes; otherwise the returned sentence names the offending value(s) and the likely cause.
+    """
+    bad = [f"{name} = {value:.4g} N m/rad" for name, value in (("k_t", k_t), ("k_b", k_b))
+           if not (math.isfinite(value) and value > 0)]
+    if not bad:
+        return None
+    return (f"eq. (12) gives {' and '.join(bad)}, not a positive finite stiffness: the static "
+            f"deflection is not a positive combination of rotations about the torsion and "
+            f"bending axes (the lateral load does not excite that deformation)")
 
 
 def static_stiffness_from_split(k_t, k_b, beta_t, b_t, beta_b, b_b, b):

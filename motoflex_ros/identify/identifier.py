@@ -63,18 +63,22 @@ class HarmonicReading:
         """Number of peaks used."""
         return len(self.peaks)
 
+    @property
+    def n_windows(self):
+        """Number of fitted windows (independent observations; two peaks each)."""
+        return len(self.peaks) // PEAKS_PER_WINDOW
+
     def mean(self):
         """Mean axis (l, beta, b) over the peaks and its covariance.
 
         beta and b are averaged; l = L - b / sin(beta) follows from them (see
         :class:`motoflex_ros.identify.peaks.RunningMean`). The covariance of the mean comes from
         the scatter of the per-window means: the maximum and the minimum of one window share
-        one sine fit, so their errors are correlated and they count as one observation.
+        one sine fit, so their errors are correlated and they count as one observation. With a
+        single window the covariance is NaN (no spread estimate, see ``n_windows``).
         """
         per_period = self.peaks[:, 1:].reshape(-1, PEAKS_PER_WINDOW, 2).mean(axis=1)
         mean, cov = mean_and_covariance(per_period)
-        if not np.all(np.isfinite(cov)):
-            cov = np.zeros((2, 2))
 
         def axis(v):
             return np.array([joint_distance_from_arm(v[0], v[1], self.length), v[0], v[1]])

@@ -5,7 +5,8 @@ k. Torsion and bending models: l, beta, b as the mean over the peaks of the harm
 the first torsion / bending eigenfrequency, k by eq. (8) with F_st, y_qst of the static test and
 the harmonic arm b, J and c by eqs. (10)-(11) with omega_n, zeta of the mode's eigenvalue
 (eq. 9). k_t, k_b by eq. (12). Every value carries a 95 % interval from the measurement scatter
-(:mod:`motoflex_ros.identify.uncertainty`).
+(:mod:`motoflex_ros.identify.uncertainty`); NaN where the scatter is unknown (a single sample or
+a single fitted window), null in JSON.
 """
 from dataclasses import dataclass, field
 
@@ -14,7 +15,7 @@ import numpy as np
 from motoflex_ros.errors import ProtocolError
 from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.decay import match_pole
-from motoflex_ros.identify.decomposition import decompose_stiffness
+from motoflex_ros.identify.decomposition import decompose_stiffness, split_problem
 from motoflex_ros.identify.peaks import axis_of_pose, unwrap_axis, wrap_axis
 from motoflex_ros.identify.stiffness import modal_damping, modal_inertia, static_damping
 from motoflex_ros.identify.uncertainty import LEVEL, interval, propagate
@@ -53,10 +54,16 @@ class ComponentIdentification:
     modal: dict
     others: dict
 
+    @property
+    def split_identifiable(self):
+        """Whether eq. (12) gave two positive finite springs k_t, k_b (else they are NaN)."""
+        return self.split.info["split_identifiable"]
+
     def to_dict(self):
-        """The JSON/YAML shape the vehicle side reads."""
+        """The JSON/YAML shape the vehicle side reads (k_t, k_b NaN/null and
+        ``split_identifiable`` False with ``split_problem`` when eq. 12 has no valid split)."""
         out = {"static": self.static.to_dict(), "torsion": self.torsion.to_dict(),
-               "bending": self.bending.to_dict(), **self.split.values,
+               "bending": self.bending.to_dict(), **self.split.values, **self.split.info,
                "ci": {**self.split.ci, "level": LEVEL},
                "sweep": [s.to_dict() for s in self.sweep], "modal": self.modal}
         out.update({name: m.to_dict() for name, m in self.others.items()})
@@ -93,7 +100,7 @@ def _harmonic_axis(reading):
     mean, cov = reading.mean()
     mean = mean.copy()
     mean[1], mean[2] = wrap_axis(mean[1], mean[2])
-    dof = max(reading.n_peaks // 2 - 1, 1)
+    dof = reading.n_windows - 1  # 0 for a single window: the interval is undefined (NaN)
     ci = {n: interval(mean[i], cov[i, i], dof) for i, n in enumerate(("l", "beta", "b"))}
     info = {"n_peaks": reading.n_peaks, "n_samples": reading.n_samples,
             "settled": reading.settled}
@@ -120,7 +127,12 @@ def _mode_model(reading, static_reading, mode):
 
 
 def _split(static, static_cov, torsion, torsion_cov, bending, bending_cov):
-    """k_t, k_b by eq. (12) with intervals; inputs (k, beta, b, beta_t, b_t, beta_b, b_b)."""
+    """k_t, k_b by eq. (12) with intervals; inputs (k, beta, b, beta_t, b_t, beta_b, b_b).
+
+    A split that is not two positive finite springs (:func:`split_problem`) is reported as not
+    identifiable: k_t, k_b and their intervals NaN, info ``split_identifiable`` False and
+    ``split_problem`` the reason.
+    """
     x = np.array([static["k"], static["beta"], static["b"], torsion["beta"], torsion["b"],
                   bending["beta"], bending["b"]])
     cov = np.zeros((7, 7))
@@ -134,8 +146,12 @@ def _split(static, static_cov, torsion, torsion_cov, bending, bending_cov):
         return np.array([s.k_t, s.k_b])
 
     values, out_cov = propagate(split, x, cov, 1e-7 * np.maximum(np.abs(x), 1e-3))
+    problem = split_problem(float(values[0]), float(values[1]))
+    if problem:
+        values, out_cov = np.full(2, np.nan), np.full((2, 2), np.nan)
     ci = {n: interval(values[i], out_cov[i, i]) for i, n in enumerate(("k_t", "k_b"))}
-    return AxisModel({"k_t": float(values[0]), "k_b": float(values[1])}, ci)
+    return AxisModel({"k_t": float(values[0]), "k_b": float(values[1])}, ci,
+                     {"split_identifiable": problem is None, "split_problem": problem})
 
 
 def _modal(modes, decay):

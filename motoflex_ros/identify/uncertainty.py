@@ -4,8 +4,12 @@ An identified value y = g(x) computed from measured quantities x with covariance
 covariance G S G^T, G the Jacobian of g by central differences. The covariance of x comes from
 the scatter of the measurements themselves (the standard error of a mean over samples or
 peaks), so the same code applies to real measurements with unknown noise. Intervals are
-value +/- z sqrt(var), z the two-sided normal (or Student t) quantile of the level.
+value +/- z sqrt(var), z the two-sided normal (or Student t) quantile of the level. With a
+single sample there is no spread estimate: the covariance is NaN and so is the interval
+(undefined, never zero width).
 """
+import math
+
 import numpy as np
 from scipy import stats
 
@@ -32,7 +36,8 @@ def propagate(func, x, cov, steps):
 
 
 def mean_and_covariance(samples):
-    """Mean of the rows of ``samples`` (n, m) and the covariance of that mean (S / n)."""
+    """Mean of the rows of ``samples`` (n, m) and the covariance of that mean (S / n); the
+    covariance is NaN for n < 2 (one sample says nothing about the scatter)."""
     samples = np.asarray(samples, float)
     n = samples.shape[0]
     if n < 2:
@@ -42,7 +47,14 @@ def mean_and_covariance(samples):
 
 
 def interval(value, variance, dof=None, level=LEVEL):
-    """Two-sided interval [lo, hi] of ``level``; Student t with ``dof`` degrees if given."""
-    q = stats.t.ppf(0.5 + level / 2, dof) if dof else stats.norm.ppf(0.5 + level / 2)
-    half = q * np.sqrt(max(float(variance), 0.0))
+    """Two-sided interval [lo, hi] of ``level``; Student t with ``dof`` degrees if given.
+
+    [nan, nan] (undefined) when the variance is not finite or ``dof`` < 1: without a spread
+    estimate there is no interval, and a zero-width one would claim an exact value.
+    """
+    variance = float(variance)
+    if not math.isfinite(variance) or (dof is not None and dof < 1):
+        return [math.nan, math.nan]
+    q = stats.t.ppf(0.5 + level / 2, dof) if dof is not None else stats.norm.ppf(0.5 + level / 2)
+    half = q * np.sqrt(max(variance, 0.0))
     return [float(value - half), float(value + half)]

@@ -158,7 +158,8 @@ def _plain(value):
 def identification_statuses(component, result_dict):
     """diagnostic_msgs/DiagnosticStatus list, one per test/model of a component's result dict
     (``ComponentIdentification.to_dict``): name '<component>/<test>', values as KeyValue with
-    dotted keys and ``repr`` values (exact floats).
+    dotted keys and ``repr`` values (exact floats; None for NaN, an undefined value). The
+    split status is WARN with the reason when eq. (12) gave no identifiable k_t, k_b.
     """
     statuses, top = [], {}
     for test, values in result_dict.items():
@@ -168,7 +169,10 @@ def identification_statuses(component, result_dict):
             statuses += [_status(f"{component}/{test}_{i:02d}", v) for i, v in enumerate(values)]
         else:
             top[test] = values
-    statuses.insert(0, _status(f"{component}/split", top))
+    split = _status(f"{component}/split", top)
+    if top.get("split_identifiable") is False:  # eq. (12) gave no usable k_t, k_b
+        split.level, split.message = DiagnosticStatus.WARN, str(top.get("split_problem"))
+    statuses.insert(0, split)
     return statuses
 
 

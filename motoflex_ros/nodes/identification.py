@@ -119,6 +119,9 @@ class IdentificationNode(RigNode):
         msg.header.stamp = time_msg(end_ns)
         self.results_pub.publish(msg)
         self.get_logger().info(f"{component}: identified, k = {result.static['k']:.6g} N m/rad")
+        if not result.split_identifiable:
+            self.get_logger().warning(f"{component}: k_t, k_b not identifiable: "
+                                      f"{result.split.info['split_problem']}")
         if len(self.results) == len(self.setups):
             if self.params["result_file"]:
                 write_results(self.params["result_file"],

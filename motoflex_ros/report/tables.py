@@ -52,10 +52,15 @@ def _fmt(value):
 
 
 def _json(data, file, *keys):
+    """A number of a JSON source; null (an undefined value: a one-sample interval, a split
+    eq. 12 cannot give) is shown as 'n/a' and carries no value."""
     value = data
     for key in keys:
         value = value[key]
-    return Cell(_fmt(value), float(value), "json", file, "/".join(map(str, keys)))
+    path = "/".join(map(str, keys))
+    if value is None:
+        return Cell("n/a", None, "json", file, path)
+    return Cell(_fmt(value), float(value), "json", file, path)
 
 
 def _paper(value, path):
@@ -68,6 +73,8 @@ def percent_difference(ours, paper):
 
 
 def _diff(ours, paper, path):
+    if ours.value is None:
+        return Cell("n/a", None, "diff", None, path)
     value = percent_difference(ours.value, paper.value)
     return Cell(f"{value:+.1f} %", value, "diff", None, path)
 

@@ -41,29 +41,38 @@ class MotorcycleStudy:
 
 
 def nominal_stiffness(identified):
-    """{factor: k} [N m/rad] from identification results (k_t, k_b of each component)."""
+    """{factor: k} [N m/rad] from identification results (k_t, k_b of each component).
+
+    ConfigError for a missing value; ModelError naming the component when its eq. (12) split
+    is not identifiable (flagged, or not a positive finite number).
+    """
+    from motoflex_ros.vehicle.lumped import check_split_identifiable
     nominal = {}
     for factor in FACTORS:
         component, key = FACTOR_KEYS[factor]
-        try:
-            value = float(identified[component][key])
-        except (KeyError, TypeError, ValueError):
+        if not isinstance(identified.get(component), dict) or key not in identified[component]:
             raise ConfigError(_SOURCE, f"{component}.{key}", "missing (run motoflex identify "
-                                                             "or give a complete file)") from None
-        if not (np.isfinite(value) and value > 0):
-            raise ConfigError(_SOURCE, f"{component}.{key}",
-                              f"must be a positive stiffness for the sensitivity study, got "
-                              f"{value:.4g} N m/rad (check the eq. 12 decomposition)")
-        nominal[factor] = value
+                                                             "or give a complete file)")
+        check_split_identifiable(identified, component)
+        nominal[factor] = float(identified[component][key])
     return nominal
 
 
 def with_stiffness(identified, values):
-    """A copy of the identification results with k_t, k_b replaced by ``values`` ({factor: k})."""
+    """A copy of the identification results with k_t, k_b replaced by ``values`` ({factor: k}).
+
+    A component whose k_t and k_b are both given no longer carries the identification's
+    verdict on its eq. (12) split (the given values are judged instead).
+    """
     out = {name: dict(result) for name, result in identified.items()}
     for factor, value in values.items():
         component, key = FACTOR_KEYS[factor]
         out[component][key] = float(value)
+    for component, result in out.items():
+        given = {FACTOR_KEYS[f] for f in values}
+        if {(component, "k_t"), (component, "k_b")} <= given:
+            result.pop("split_identifiable", None)
+            result.pop("split_problem", None)
     return out
 
 

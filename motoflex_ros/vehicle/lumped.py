@@ -48,7 +48,7 @@ from motoflex_ros.vehicle.model import Body, Joint
 
 __all__ = ["VARIANTS", "COMPONENTS", "GAMMA", "FlexJoint", "ComponentSite", "site_of",
            "axis_in_vehicle", "state_of_the_art_axis", "state_of_the_art_stiffness", "SOTA_LOAD",
-           "check_site", "reattach", "flex_joints", "lumped_vehicle",
+           "check_site", "check_split_identifiable", "reattach", "flex_joints", "lumped_vehicle",
            "mass_properties", "MOUNTS"]
 
 VARIANTS = ("rigid", "state_of_the_art", "static", "torsion", "bending", "decomposed")
@@ -160,6 +160,32 @@ def state_of_the_art_axis(component, site, steer_axis):
     return site.origin + site.q0, np.array([1.0, 0.0, 0.0])
 
 
+def check_split_identifiable(identified, component):
+    """Raise ModelError naming the component if its eq. (12) split k_t, k_b is not identifiable.
+
+    The identification marks it (``split_identifiable`` False, ``split_problem`` the reason,
+    k_t and k_b null/NaN); a result file without the mark is judged by its values: a missing,
+    non-finite or non-positive k_t or k_b cannot be a spring of the decomposed variant.
+    """
+    result = identified.get(component) if isinstance(identified, dict) else None
+    if not isinstance(result, dict):
+        return
+    problem = result.get("split_problem")
+    values = {key: result.get(key) for key in ("k_t", "k_b") if key in result}
+    bad = [f"{component}.{key} = {_show(value)}" for key, value in values.items()
+           if isinstance(value, bool) or not isinstance(value, (int, float))
+           or not np.isfinite(value) or value <= 0]
+    if result.get("split_identifiable") is False or bad:
+        raise ModelError(f"component '{component}': its torsion/bending split (eq. 12) is not "
+                         f"identifiable ({problem or ', '.join(bad)}); the decomposed variant "
+                         f"needs positive k_t and k_b, use the static, torsion or bending "
+                         f"variant")
+
+
+def _show(value):
+    return f"{value:.4g}" if isinstance(value, float) else repr(value)
+
+
 def _need(identified, component, *keys):
     value = identified
     path = ""
@@ -203,6 +229,7 @@ def flex_joints(variant, component, identified, site, sota=None):
         point, axis = axis_in_vehicle(site, get("l"), get("beta"))
         return (FlexJoint(name, point, axis, get("k"), get("c"), get("J")),)
     if variant == "decomposed":
+        check_split_identifiable(identified, component)
         joints = []
         for test, key in (("torsion", "k_t"), ("bending", "k_b")):
             point, axis = axis_in_vehicle(site, _need(identified, component, test, "l"),
