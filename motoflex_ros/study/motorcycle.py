@@ -4,9 +4,11 @@ The factors are the six joint stiffnesses of the "decomposed" variant (eq. 12: a
 bending joint per component, :mod:`motoflex_ros.vehicle.lumped`), nominal values from the
 identification results ({component: {"k_t", "k_b", "torsion": {"l", "beta"}, "bending":
 {...}}}). The nominal motorcycle is linearized once (E(v), A(v) as speed polynomials); each
-stiffness enters A linearly (spring moment -k q and damper -gamma k q'), so the six directions
-dA/dk_i come from linearizations at one speed, checked for linearity, and every run's pencil is
-a sum (:class:`motoflex_ros.study.tracked.LinearStiffnessPencil`). Weave and wobble are named
+stiffness enters A linearly (spring moment -k q and damper -gamma k q', neither depending on
+speed), so the six directions dA/dk_i = dA_0/dk_i come from linearizations at v = 0 (where A is
+A_0), checked for linearity, and every run's pencil is a sum
+(:class:`motoflex_ros.study.tracked.LinearStiffnessPencil`); one direct linearization at the
+highest speed checks that sum (speed-independent spring terms). Weave and wobble are named
 by the engine's modal sweep of the nominal motorcycle (mode shape at its reference speed) and
 tracked in every run by continuation.
 """
@@ -24,8 +26,10 @@ __all__ = ["FACTOR_KEYS", "DIRECTION_SPEED", "MotorcycleStudy", "nominal_stiffne
 # factor -> (component, key of the identification results)
 FACTOR_KEYS = {f: (component, "k_t" if axis == "torsion" else "k_b")
                for f, (component, axis) in FACTOR_DESCRIPTIONS.items()}
-DIRECTION_SPEED = 20.0
-"""Speed [m/s] of the linearizations that give the stiffness directions dA/dk_i."""
+DIRECTION_SPEED = 0.0
+"""Speed [m/s] of the linearizations that give the stiffness directions dA_0/dk_i: at v = 0,
+A(v) = A_0 + v A_1 + v^2 A_2 is exactly its speed-independent coefficient A_0, which is what
+:func:`motoflex_ros.study.tracked.pencil_study` asks for."""
 
 _SOURCE = "identification results"
 
@@ -118,5 +122,6 @@ def decomposed_study(vehicle, components, identified, speeds):
     sweep = modal_sweep(lin, speeds)
     study = pencil_study(lin.E_coeffs, lin.A_coeffs,
                          lambda k: linearize_at(build_system(model(k)), DIRECTION_SPEED)[1],
-                         nominal, speeds, _mode_targets(sweep))
+                         nominal, speeds, _mode_targets(sweep),
+                         reference=lambda k, v: linearize_at(build_system(model(k)), v))
     return MotorcycleStudy(study=study, nominal=nominal, sweep=sweep)

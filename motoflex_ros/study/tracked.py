@@ -14,7 +14,9 @@ lumped-stiffness vehicle A(v; k) = A(v; k_nom) + sum_i (k_i - k_nom,i) D_i with 
 D_i = dA/dk_i. :class:`LinearStiffnessPencil` builds every run's pencil that way from one
 nominal linearization (E(v), A(v) as speed polynomials, e.g. the vehicle engine's
 LinearVehicle.E_coeffs / A_coeffs) and :func:`stiffness_directions` finds the D_i by
-differences of linearizations, checking the linearity.
+differences of the speed-independent coefficient A_0, checking the linearity;
+:func:`check_pencil` checks the superposition against a direct linearization at another speed
+(D_i constant only if the spring terms do not depend on speed).
 """
 from dataclasses import dataclass, field
 
@@ -24,7 +26,7 @@ from motoflex_ros.errors import ModelError
 from motoflex_ros.study.continuation import continue_eigenpairs, nearest_eigenpairs
 
 __all__ = ["NearestTargets", "HomotopyStart", "TrackedModeStudy", "LinearStiffnessPencil",
-           "stiffness_directions", "pencil_study"]
+           "stiffness_directions", "check_pencil", "pencil_study"]
 
 
 @dataclass(frozen=True)
@@ -182,8 +184,37 @@ def stiffness_directions(matrix_of, nominal, rel_step=0.1, tol=1e-8):
     return directions
 
 
+def check_pencil(pencil, reference, values, speed, tol=1e-8):
+    """Raise ModelError unless ``pencil(values, speed)`` equals the direct ``reference``.
+
+    Parameters
+    ----------
+    pencil : LinearStiffnessPencil
+        The superposed pencils (nominal E(v), A(v) plus stiffness directions D_i).
+    reference : callable
+        ``reference({factor: k}, speed) -> (E, A)`` (n, n) of one direct linearization.
+    values : mapping
+        Stiffnesses [N m/rad] to compare at (one run).
+    speed : float
+        Speed [m/s]; away from the speed of the directions, so that a stiffness term that
+        depends on speed (D_i not constant) shows up.
+    tol : float
+        Allowed mismatch relative to the largest entry of A.
+
+    """
+    e_run, a_run = pencil({f: np.array([float(k)]) for f, k in values.items()}, speed)
+    e_ref, a_ref = (np.asarray(m, float) for m in reference(dict(values), speed))
+    scale = max(float(np.max(np.abs(a_ref))), 1.0)
+    mismatch = max(float(np.max(np.abs(e_run[0] - e_ref))),
+                   float(np.max(np.abs(a_run[0] - a_ref)))) / scale
+    if mismatch > tol:
+        raise ModelError(f"the stiffness pencil differs from a direct linearization at "
+                         f"{speed:g} m/s (relative mismatch {mismatch:.1e}): the stiffnesses "
+                         f"enter A(v) other than through its speed-independent part A_0")
+
+
 def pencil_study(e_coeffs, a_coeffs, matrix_of, nominal, speeds, targets,
-                 modes=("weave", "wobble")):
+                 modes=("weave", "wobble"), reference=None):
     """The study function of a linearized vehicle whose joint stiffnesses are the factors.
 
     Parameters
@@ -203,11 +234,19 @@ def pencil_study(e_coeffs, a_coeffs, matrix_of, nominal, speeds, targets,
         engine's modal sweep names them.
     modes : tuple of str
         Output names, in the order of ``targets``.
+    reference : callable, optional
+        ``reference({factor: k}, speed) -> (E, A)`` of a direct linearization; if given, the
+        pencil is checked against it (:func:`check_pencil`) at the highest speed with every
+        stiffness 10 % above nominal: the directions D_i = dA_0/dk_i describe A(v) at every
+        speed only if the stiffness terms do not depend on speed.
 
     """
     directions = stiffness_directions(matrix_of, dict(nominal))
     pencil = LinearStiffnessPencil(np.asarray(e_coeffs), np.asarray(a_coeffs), directions,
                                    dict(nominal))
+    if reference is not None:
+        check_pencil(pencil, reference, {f: 1.1 * float(k) for f, k in nominal.items()},
+                     float(np.max(speeds)))
     e0, a0 = pencil({f: np.array([float(k)]) for f, k in nominal.items()}, speeds[0])
     start = HomotopyStart(nominal=(e0[0], a0[0]), targets=tuple(targets))
     return TrackedModeStudy(state_matrices=pencil, speeds=tuple(np.asarray(speeds, float)),
