@@ -20,7 +20,7 @@ from motoflex_ros.vehicle.contact import GROUND_NORMAL, contact_state
 from motoflex_ros.vehicle.kinematics import compile_tree, frame_states
 from motoflex_ros.vehicle.spatial import cross
 
-__all__ = ["VehicleSystem", "build_system", "residual", "positions",
+__all__ = ["VehicleSystem", "build_system", "bind_elements", "residual", "positions",
            "generalized_force_residual"]
 
 _NEWTON_STEPS = 3
@@ -28,7 +28,8 @@ _NEWTON_STEPS = 3
 
 @dataclass(frozen=True)
 class VehicleSystem:
-    """A compiled vehicle: tree, index partition, constraint list and state names."""
+    """A compiled vehicle: tree, index partition, constraint list, state names and the model's
+    force elements bound to the tree (:func:`bind_elements`)."""
 
     model: object
     tree: object
@@ -38,6 +39,7 @@ class VehicleSystem:
     dep_speed: tuple
     constraints: tuple
     state_names: tuple
+    elements: tuple = ()
 
     @property
     def n_states(self):
@@ -74,6 +76,12 @@ def _state_names(tree, indep_pos, indep_speed, wheels):
     return tuple(names)
 
 
+def bind_elements(elements, tree):
+    """Force elements ready for the residual: one with a ``bind(tree)`` method is replaced by
+    what it returns (e.g. itself with its coordinate indices looked up once), others kept."""
+    return tuple(e.bind(tree) if hasattr(e, "bind") else e for e in elements)
+
+
 def build_system(model):
     """Compile a VehicleModel into a VehicleSystem and check the reference contact."""
     tree = compile_tree(model)
@@ -82,7 +90,8 @@ def build_system(model):
         raise ModelError(f"{model.source}: {len(cons)} rolling constraints for {len(dsp)} "
                          "dependent speeds; use two wheels, both knife-edge or both tyred")
     system = VehicleSystem(model, tree, tuple(ip), tuple(dp), tuple(isp), tuple(dsp),
-                           tuple(cons), _state_names(tree, ip, isp, model.wheels))
+                           tuple(cons), _state_names(tree, ip, isp, model.wheels),
+                           bind_elements(model.elements, tree))
     n = len(tree.coordinates)
     frames = frame_states(tree, np.zeros(n), np.zeros(n))
     for wheel, f in zip(model.wheels, tree.wheel_frames):
@@ -193,7 +202,7 @@ def residual(system, xdot, x, v, applied=None, q=None):
     forces -= tyre_rows[1]
     if applied is not None:
         forces = forces - applied
-    for element in system.model.elements:
+    for element in system.elements:
         forces = forces + element.generalized_residual(system, frames, q, u, udot)
     S = _partial_velocities(system, G)
     kin = xdot[:nq] - u[list(system.indep_pos)]

@@ -78,7 +78,9 @@ class VehicleModel:
     elements: extra force elements (e.g. superelement stiffness/damping acting on joint or
     modal coordinates), objects with ``generalized_residual(system, frames, q, u, udot)``
     returning a complex-safe vector over all coordinates that is added to the residual of the
-    equations of motion (inertia minus applied forces: a spring k q enters as +k q)."""
+    equations of motion (inertia minus applied forces: a spring k q enters as +k q). An element
+    may also have ``bind(tree)``: the compiled system then holds what it returns instead (e.g.
+    the element with its coordinate indices looked up once, not in every residual call)."""
 
     name: str
     source: str

@@ -34,8 +34,8 @@ from motoflex_ros.structures.clamped import reduce_clamped
 from motoflex_ros.vehicle.model import Body, Joint
 from motoflex_ros.vehicle.spatial import cross
 
-__all__ = ["Superelement", "superelement_of", "rigid_field", "coordinate_names", "end_body",
-           "chain_parts", "generalized_residual"]
+__all__ = ["Superelement", "BoundSuperelement", "superelement_of", "rigid_field",
+           "coordinate_names", "end_body", "chain_parts", "generalized_residual"]
 
 
 @dataclass(frozen=True)
@@ -66,14 +66,30 @@ class Superelement:
         """Translational coupling (3, n_x) [kg]: static moment of the elastic displacement."""
         return self.M_xR[:, 3:].T
 
-    def generalized_residual(self, system, frames, q, u, udot):
-        """Force-element hook of the engine (see :func:`generalized_residual`)."""
-        return generalized_residual(self, system, frames, q, u, udot)
+    def bind(self, tree):
+        """The element placed in a compiled tree: its coordinates and parent frame looked up
+        once (force-element hook of the engine, see ``VehicleModel.elements``)."""
+        indices = np.array([tree.index(n) for n in coordinate_names(self)])
+        return BoundSuperelement(self, indices, tree.body_frames[self.parent])
 
     def scaled(self, factor):
         """The same superelement with stiffness multiplied by ``factor`` (rigid-limit checks)."""
         return Superelement(self.name, self.parent, self.end_point, self.M, self.K * factor,
                             self.C * factor, self.M_xR, self.n_modes)
+
+
+@dataclass(frozen=True)
+class BoundSuperelement:
+    """A Superelement in a compiled tree: ``indices`` of its engine coordinates
+    (:func:`coordinate_names` order) and the frame index of its parent body."""
+
+    element: Superelement
+    indices: np.ndarray
+    parent_frame: int
+
+    def generalized_residual(self, system, frames, q, u, udot):
+        """Force-element hook of the engine (see :func:`generalized_residual`)."""
+        return generalized_residual(self, system, frames, q, u, udot)
 
 
 def rigid_field(xyz):
@@ -163,10 +179,14 @@ def chain_parts(se):
     return bodies, joints
 
 
-def generalized_residual(se, system, frames, q, u, udot):
-    """The superelement's terms of the residual (module docstring), over all coordinates."""
-    idx = [system.tree.index(n) for n in coordinate_names(se)]
-    f = frames[system.tree.body_frames[se.parent]]
+def generalized_residual(bound, system, frames, q, u, udot):
+    """The superelement's terms of the residual (module docstring), over all coordinates.
+
+    ``bound``: a :class:`BoundSuperelement` (``Superelement.bind(tree)``), so that no name is
+    looked up here, on the hot path of the linearization.
+    """
+    se, idx = bound.element, bound.indices
+    f = frames[bound.parent_frame]
     g = np.array([0.0, 0.0, -system.model.gravity])
     x, xd, xdd = q[idx], u[idx], udot[idx]
     alpha = f.Jw @ udot + f.dw
