@@ -15,7 +15,7 @@ from motoflex_ros.config import config_path
 from motoflex_ros.structures.components import load_component
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.linearize import linearize
-from motoflex_ros.vehicle.model import Body, Joint, load_vehicle
+from motoflex_ros.vehicle.model import Body, Joint, load_vehicle, parallel_axis
 from motoflex_ros.vehicle.modes import modal_sweep
 from motoflex_ros.vehicle.superelement import superelement_of
 from motoflex_ros.vehicle.variants import flexible_vehicle
@@ -41,10 +41,8 @@ def lumped_hinge_vehicle(vehicle, component):
     arm = vehicle.body("swingarm")
     rest_mass = arm.mass - part.mass
     rest_com = (arm.mass * arm.com - part.mass * part.com) / rest_mass
-    shift = lambda m, c: m * ((c - rest_com) @ (c - rest_com) * np.eye(3)  # noqa: E731
-                              - np.outer(c - rest_com, c - rest_com))
-    inertia = (arm.inertia + shift(arm.mass, arm.com) - part.inertia
-               - shift(part.mass, part.com))
+    inertia = (arm.inertia + parallel_axis(arm.mass, arm.com - rest_com) - part.inertia
+               - parallel_axis(part.mass, part.com - rest_com))
     rest = replace(arm, mass=rest_mass, com=rest_com, inertia=inertia)
     axis = np.array([0.6, 0.0, 0.8])
     hinge = Joint("hinge", "revolute", "swingarm", "rear_flex", axis,

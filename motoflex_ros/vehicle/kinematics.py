@@ -93,10 +93,7 @@ def _base_coordinates():
 
 
 def _wheel_mass(wheel, frame):
-    a = wheel.axis
-    inertia = wheel.diametral_inertia * (np.eye(3) - np.outer(a, a))
-    inertia += wheel.spin_inertia * np.outer(a, a)
-    return MassItem(wheel.name, frame, wheel.mass, wheel.centre, inertia)
+    return MassItem(wheel.name, frame, wheel.mass, wheel.centre, wheel.inertia)
 
 
 def _attach_joints(model, coords, frames):

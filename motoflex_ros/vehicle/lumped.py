@@ -44,7 +44,7 @@ from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.stiffness import GAMMA_S
-from motoflex_ros.vehicle.model import Body, Joint
+from motoflex_ros.vehicle.model import Body, Joint, composite_inertia
 
 __all__ = ["VARIANTS", "COMPONENTS", "GAMMA", "FlexJoint", "ComponentSite", "site_of",
            "axis_in_vehicle", "state_of_the_art_axis", "state_of_the_art_stiffness", "SOTA_LOAD",
@@ -247,17 +247,8 @@ def mass_properties(model):
     spin inertia about it), reference configuration.
     """
     items = [(b.mass, b.com, b.inertia) for b in model.bodies]
-    for w in model.wheels:
-        a = w.axis
-        inertia = w.diametral_inertia * (np.eye(3) - np.outer(a, a))
-        items.append((w.mass, w.centre, inertia + w.spin_inertia * np.outer(a, a)))
-    mass = sum(m for m, _, _ in items)
-    com = sum(m * np.asarray(c) for m, c, _ in items) / mass
-    total = np.zeros((3, 3))
-    for m, c, inertia in items:
-        d = np.asarray(c) - com
-        total += inertia + m * ((d @ d) * np.eye(3) - np.outer(d, d))
-    return mass, com, total
+    items += [(w.mass, w.centre, w.inertia) for w in model.wheels]
+    return composite_inertia(items)
 
 
 def _distance_to_line(point, line_point, direction):
@@ -330,10 +321,7 @@ def _take_inertia(donor, tensor, bodies, model):
     rest = replace(donor, inertia=donor.inertia - tensor)
     members = [rest if n == donor.name else bodies[n]
                for n in _rigid_cluster(model, donor.name)]
-    mass = sum(b.mass for b in members)
-    com = sum(b.mass * b.com for b in members) / mass
-    total = sum(b.inertia + b.mass * ((b.com - com) @ (b.com - com) * np.eye(3)
-                                      - np.outer(b.com - com, b.com - com)) for b in members)
+    _, _, total = composite_inertia((b.mass, b.com, b.inertia) for b in members)
     if np.linalg.eigvalsh(total)[0] <= 0.0:
         names = ", ".join(sorted(b.name for b in members))
         raise ModelError(f"vehicle '{model.name}': the identified inertia "

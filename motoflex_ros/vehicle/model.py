@@ -18,7 +18,8 @@ from motoflex_ros.vehicle.schema import VEHICLE_SCHEMA
 from motoflex_ros.vehicle.tyre import tyre_from_config
 
 __all__ = ["Body", "Joint", "Wheel", "VehicleModel", "load_vehicle", "vehicle_from_dict",
-           "inertia_matrix", "check_inertia", "combine_parts"]
+           "inertia_matrix", "check_inertia", "parallel_axis", "composite_inertia",
+           "combine_parts"]
 
 
 @dataclass(frozen=True)
@@ -68,6 +69,14 @@ class Wheel:
     diametral_inertia: float
     spin_inertia: float
     tyre: object = None
+
+    @property
+    def inertia(self):
+        """Inertia tensor about the centre [kg m^2]: diametral_inertia about every axis normal
+        to the spin axis a, spin_inertia about a: I_d (1 - a a^T) + I_s a a^T."""
+        a = self.axis
+        inertia = self.diametral_inertia * (np.eye(3) - np.outer(a, a))
+        return inertia + self.spin_inertia * np.outer(a, a)
 
 
 @dataclass(frozen=True)
@@ -128,18 +137,49 @@ def check_inertia(tensor, source, key):
                                        "I1 + I2 must be >= I3)")
 
 
+def parallel_axis(mass, offset):
+    """Parallel-axis (Steiner) term m (|d|^2 1 - d d^T) [kg m^2].
+
+    What a point mass ``mass`` [kg] at ``offset`` d [m] from a reference point adds to an
+    inertia tensor about that point.
+    """
+    d = np.asarray(offset)
+    return mass * ((d @ d) * np.eye(3) - np.outer(d, d))
+
+
+def composite_inertia(items):
+    """Mass [kg], centre of mass [m] and inertia tensor about it [kg m^2] of rigid items.
+
+    Parameters
+    ----------
+    items : iterable of (mass, com, inertia)
+        Each item's mass [kg], centre of mass [m] and inertia tensor about its own centre of
+        mass [kg m^2], all in one frame.
+
+    Returns
+    -------
+    mass, com, inertia
+        Total mass, common centre of mass c = sum m_i c_i / m, and
+        I = sum (I_i + :func:`parallel_axis` (m_i, c_i - c)).
+
+    """
+    items = list(items)
+    mass = sum(m for m, _, _ in items)
+    com = sum(m * np.asarray(c) for m, c, _ in items) / mass
+    inertia = np.zeros((3, 3))
+    for m, c, own in items:
+        inertia += own + parallel_axis(m, np.asarray(c) - com)
+    return mass, com, inertia
+
+
 def combine_parts(parts, source, key):
     """Mass [kg], com [m] and inertia about the com [kg m^2] of named parts (parallel axis)."""
-    mass = sum(p["mass"] for p in parts.values())
-    com = sum(p["mass"] * np.asarray(p["com"]) for p in parts.values()) / mass
-    inertia = np.zeros((3, 3))
+    items = []
     for name, part in parts.items():
         own = inertia_matrix(part["inertia"])
         check_inertia(own, source, f"{key}.parts.{name}.inertia")
-        d = np.asarray(part["com"]) - com
-        inertia += own + part["mass"] * ((d @ d) * np.eye(3) - np.outer(d, d))
-    return mass, com, inertia
-
+        items.append((part["mass"], part["com"], own))
+    return composite_inertia(items)
 
 def _body(name, spec, source):
     key = f"bodies.{name}"
