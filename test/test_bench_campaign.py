@@ -8,10 +8,10 @@ import yaml
 
 from motoflex_ros.bench.actuator import LoadActuator, LoadSample
 from motoflex_ros.bench.campaign import make_stages, run_campaign, setup_campaign
-from motoflex_ros.bench.sensor import rotation_from_vector
 from motoflex_ros.cli.main import main
 from motoflex_ros.identify.identifier import Identifier
 from motoflex_ros.identify.results import identify_component
+from motoflex_ros.spatial import rotation_from_vector
 
 
 @pytest.fixture(scope="module")

@@ -10,9 +10,9 @@ from motoflex_ros.bench.sensor import (
     MarkerSensor,
     SensorSettings,
     marker_positions,
-    rotation_from_vector,
 )
 from motoflex_ros.identify.axis import deformation_axis
+from motoflex_ros.spatial import rotation_from_vector
 
 EXACT = SensorSettings(noise_m=0.0, resolution_m=0.0, latency_s=0.0)
 Q0S = [(0.6, 0.3), (-0.6, 0.3), (-0.5, -0.4), (0.4, -0.7), (0.0, 0.5), (0.7, 0.0)]

@@ -9,9 +9,10 @@ import pytest
 
 from motoflex_ros.bench.actuator import LoadActuator
 from motoflex_ros.bench.campaign import only_tests, run_campaign, setup_campaign, with_sensor
-from motoflex_ros.bench.sensor import MarkerSensor, rotation_from_vector
+from motoflex_ros.bench.sensor import MarkerSensor
 from motoflex_ros.identify.identifier import Identifier
 from motoflex_ros.identify.results import static_model
+from motoflex_ros.spatial import rotation_from_vector
 
 REPETITIONS = 50
 

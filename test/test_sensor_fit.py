@@ -8,9 +8,8 @@ from motoflex_ros.bench.sensor import (
     SensorSettings,
     fit_pose,
     marker_positions,
-    rotation_from_vector,
-    rotation_vector,
 )
+from motoflex_ros.spatial import rotation_from_vector, rotation_vector
 
 Q0 = np.array([0.62, 0.0, 0.42])
 

@@ -16,9 +16,10 @@ from motoflex_ros.bench.modes import clamped_modes
 from motoflex_ros.bench.plan import plan_campaign
 from motoflex_ros.bench.protocols import load_protocol, protocol_for
 from motoflex_ros.bench.response import ComponentSimulator
-from motoflex_ros.bench.sensor import MarkerSensor, rotation_from_vector
+from motoflex_ros.bench.sensor import MarkerSensor
 from motoflex_ros.identify.identifier import Identifier
 from motoflex_ros.identify.results import identify_component
+from motoflex_ros.spatial import rotation_from_vector
 
 __all__ = ["CampaignSetup", "CampaignRun", "setup_campaign", "make_stages", "run_campaign",
            "identify_components", "only_tests", "with_sensor"]

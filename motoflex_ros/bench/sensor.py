@@ -11,14 +11,15 @@ Noise comes from one seeded ``numpy.random.Generator`` drawn in a fixed order (o
 ``standard_normal((n_markers, 3))`` per captured sample), so a run is reproducible sample by
 sample wherever the sensor object lives (offline loop or ROS node).
 """
-import math
 from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SensorSettings", "Measurement", "MarkerSensor", "fit_pose", "rotation_from_vector",
-           "rotation_vector", "marker_positions", "DEFAULT_MARKERS"]
+from motoflex_ros.spatial import rotation_vector
+
+__all__ = ["SensorSettings", "Measurement", "MarkerSensor", "fit_pose", "marker_positions",
+           "DEFAULT_MARKERS"]
 
 # four non-coplanar markers on a plate of 0.15 m radius around the loaded end [m]
 DEFAULT_MARKERS = ((0.15, 0.0, 0.0), (-0.075, 0.13, 0.0), (-0.075, -0.13, 0.0),
@@ -61,39 +62,6 @@ class Measurement:
         out[:3] = self.position - q0
         out[3:] = rotation_vector(self.rotation)
         return out
-
-
-_IDENTITY = np.eye(3)
-
-
-def _skew(x, y, z):
-    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-
-
-def rotation_from_vector(theta):
-    """Rotation matrix exp([theta]x) of a rotation vector theta [rad] (Rodrigues)."""
-    x, y, z = (float(v) for v in theta)
-    angle = math.sqrt(x * x + y * y + z * z)
-    skew = _skew(x, y, z)
-    if angle < 1e-8:
-        first, second = 1.0, 0.5
-    else:
-        first, second = math.sin(angle) / angle, (1.0 - math.cos(angle)) / angle**2
-    return _IDENTITY + first * skew + second * (skew @ skew)
-
-
-def rotation_vector(rotation):
-    """Rotation vector [rad] of a rotation matrix (inverse of :func:`rotation_from_vector`).
-
-    Uses the skew part for the axis and atan2 for the angle, accurate for small rotations.
-    """
-    r = np.asarray(rotation, float)
-    vx, vy, vz = 0.5 * (r[2, 1] - r[1, 2]), 0.5 * (r[0, 2] - r[2, 0]), 0.5 * (r[1, 0] - r[0, 1])
-    sin_angle = math.sqrt(vx * vx + vy * vy + vz * vz)
-    if sin_angle < 1e-300:
-        return np.zeros(3)
-    angle = math.atan2(sin_angle, 0.5 * (r[0, 0] + r[1, 1] + r[2, 2] - 1.0))
-    return np.array([vx, vy, vz]) * (angle / sin_angle)
 
 
 def _det3(m):

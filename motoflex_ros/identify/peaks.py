@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.bench.sensor import rotation_from_vector
 from motoflex_ros.identify.axis import deformation_axis
+from motoflex_ros.spatial import rotation_from_vector
 
 __all__ = ["fit_sine", "peak_poses", "axis_of_pose", "RunningMean", "unwrap_angle",
            "unwrap_axis", "wrap_axis", "joint_distance_from_arm"]

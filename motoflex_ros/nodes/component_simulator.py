@@ -38,7 +38,8 @@ class ComponentSimulatorNode(RigNode):
             self.subscribe(WrenchStamped, bench_topic(c, "load"), join.callback("load"))
 
     def _handler(self, component):
-        from motoflex_ros.bench.sensor import marker_positions, rotation_from_vector
+        from motoflex_ros.bench.sensor import marker_positions
+        from motoflex_ros.spatial import rotation_from_vector
         setup = self.setups[component]
         q0 = np.asarray(setup.reduced.q0, float)
         offsets = np.asarray(setup.protocol.sensor.markers, float)

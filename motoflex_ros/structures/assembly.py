@@ -14,15 +14,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from motoflex_ros.errors import ModelError
+from motoflex_ros.spatial import skew
 from motoflex_ros.structures.beam import global_element_matrices
 
-__all__ = ["Structure", "AssembledStructure", "rigid_body_mass", "skew"]
-
-
-def skew(v):
-    """Cross-product matrix [v]x of a 3-vector, so that ``skew(v) @ w`` is v x w."""
-    x, y, z = v
-    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+__all__ = ["Structure", "AssembledStructure", "rigid_body_mass"]
 
 
 def _concat(parts):

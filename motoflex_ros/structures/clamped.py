@@ -13,6 +13,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from motoflex_ros.identify.axis import axis_stiffness, deformation_axis
+from motoflex_ros.spatial import skew
 
 __all__ = ["ReducedComponent", "StaticResult", "label_mode", "end_pose", "modal_damping",
            "state_space", "reduce_clamped"]
@@ -29,9 +30,7 @@ def end_pose(end_motion, q0, scale=1.0):
     """
     u = scale * np.asarray(end_motion[:3], float)
     theta = scale * np.asarray(end_motion[3:], float)
-    skew = np.array([[0, -theta[2], theta[1]], [theta[2], 0, -theta[0]],
-                     [-theta[1], theta[0], 0]])
-    return np.asarray(q0, float) + u, sla.expm(skew)
+    return np.asarray(q0, float) + u, sla.expm(skew(theta))
 
 
 def _small_scale(end_motion, q0, size=1e-6):

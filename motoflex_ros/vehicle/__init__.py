@@ -5,7 +5,7 @@ any axis through any point, prismatic), with wheels that roll either without sli
 or through tyres with relaxation. The engine linearizes the equations of motion about upright,
 straight running at speed v and returns the descriptor pencil E(v) x' = A(v) x, polynomial in v.
 
-Modules: ``spatial`` (complex-safe vector helpers), ``model`` (dataclasses and derived body
+Modules (vector helpers: :mod:`motoflex_ros.spatial`): ``model`` (dataclasses and derived body
 data), ``schema`` (YAML validation), ``kinematics`` (tree kinematics), ``contact`` (rolling
 contact on the toroidal tyre), ``tyre`` (linear and Magic Formula tyres), ``dynamics`` (Kane
 residual), ``linearize`` (complex-step linearization, speed polynomial), ``modes`` (MAC tracking

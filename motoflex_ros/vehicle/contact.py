@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.vehicle.spatial import cross, unit
+from motoflex_ros.spatial import cross, unit
 
 __all__ = ["ContactState", "contact_state", "GROUND_NORMAL"]
 

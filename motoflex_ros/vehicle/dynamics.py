@@ -16,9 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.spatial import cross
 from motoflex_ros.vehicle.contact import GROUND_NORMAL, contact_state
 from motoflex_ros.vehicle.kinematics import compile_tree, frame_states
-from motoflex_ros.vehicle.spatial import cross
 
 __all__ = ["VehicleSystem", "build_system", "bind_elements", "residual", "positions",
            "generalized_force_residual"]

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from motoflex_ros.errors import ModelError
-from motoflex_ros.vehicle.spatial import cross, rotation, skew
+from motoflex_ros.spatial import cross, rotation, skew
 
 __all__ = ["Coordinate", "MassItem", "Tree", "FrameState", "compile_tree", "frame_states",
            "BASE_NAMES"]

@@ -30,9 +30,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from motoflex_ros.errors import ModelError
+from motoflex_ros.spatial import cross
 from motoflex_ros.structures.clamped import reduce_clamped
 from motoflex_ros.vehicle.model import Body, Joint
-from motoflex_ros.vehicle.spatial import cross
 
 __all__ = ["Superelement", "BoundSuperelement", "superelement_of", "rigid_field",
            "coordinate_names", "end_body", "chain_parts", "generalized_residual"]
