@@ -8,8 +8,9 @@ Waits for the identified parameters of ``components`` (on /identification/result
   from ``speed_min_kmh`` to ``speed_max_kmh`` (step ``speed_step_kmh``), tracked by mode shape;
 - the steer-torque pulse road test at ``road_speed_kmh``: /vehicle/joint_states
   (sensor_msgs/JointState: joint angles, rates, applied torques) and /vehicle/bodies
-  (geometry_msgs/PoseArray of the bodies, in the frame moving with the bike), stamped with the
-  road-test time;
+  (geometry_msgs/PoseArray of the bodies with mass, in the world frame ``odom``: x forward
+  along the initial heading, the bike's path and heading integrated by the core,
+  :func:`motoflex_ros.vehicle.poses.world_poses`), stamped with the road-test time;
 - /vehicle/joint_axes (visualization_msgs/Marker, one per revolute joint, latched).
 
 Then it exits 0 (the campaign waits for it).
@@ -39,6 +40,7 @@ from motoflex_ros.nodes.runtime import RigNode, latched_qos, publish_patiently, 
 __all__ = ["VehicleSimulatorNode", "main"]
 
 FRAME = "vehicle"
+WORLD_FRAME = "odom"
 
 
 class VehicleSimulatorNode(RigNode):
@@ -113,16 +115,17 @@ class VehicleSimulatorNode(RigNode):
         self.get_logger().info(f"vehicle: {len(speeds)} speeds, road test published")
 
     def _road_test(self, lin, model, speed):
-        from motoflex_ros.vehicle.kinematics import frame_states
+        from motoflex_ros.vehicle.poses import world_poses
         from motoflex_ros.vehicle.response import steer_pulse_response
         names = tuple(lin.state_names)
         pulse = steer_pulse_response(lin, speed, outputs=names)
+        poses = world_poses(lin, pulse.time, pulse.outputs, speed)
         tree = lin.system.tree
         coords = [c.name for c in tree.coordinates]
         joints = [n for n in names if n in coords and f"{n}_rate" in names]
         steer = model.roles.get("steer", "steer")
-        bodies = [(b.name, tree.body_frames[b.name]) for b in model.bodies if b.mass > 0]
-        for row, t in zip(pulse.outputs, pulse.time):
+        bodies = [tree.body_frames[b.name] for b in model.bodies if b.mass > 0]
+        for k, (row, t) in enumerate(zip(pulse.outputs, pulse.time)):
             values = dict(zip(names, row))
             ns = seconds_to_ns(t)
             torque = pulse.torque if t < pulse.duration else 0.0
@@ -130,10 +133,8 @@ class VehicleSimulatorNode(RigNode):
             publish_patiently(self.joints_pub, joint_state_msg(
                 ns, joints, [values[j] for j in joints], [values[f"{j}_rate"] for j in joints],
                 efforts))
-            q = np.array([values.get(c, 0.0) for c in coords])
-            frames = frame_states(tree, q, np.zeros_like(q))
             publish_patiently(self.bodies_pub, poses_msg(
-                ns, FRAME, [frames[f].R for _, f in bodies], [frames[f].t for _, f in bodies]))
+                ns, WORLD_FRAME, poses.rotations[k, bodies], poses.translations[k, bodies]))
 
 
 def main(args=None):

@@ -9,12 +9,13 @@ cylinders (radius, width twice the crown radius). Poses come from the engine's o
   states directly; cyclic ones, y and yaw, from their rates as q = q'/lambda), scaled by s so
   the largest joint or attitude angle is :data:`MODE_AMPLITUDE_RAD`.
 - road test: the steer-torque pulse response (:func:`~motoflex_ros.vehicle.response.
-  steer_pulse_response`), y and yaw integrated from their rates, shown in a frame moving with
-  the forward speed, exaggerated so the largest angle is :data:`ROAD_AMPLITUDE_RAD`.
+  steer_pulse_response`) scaled so the largest angle is :data:`ROAD_AMPLITUDE_RAD` (a larger
+  pulse, the response being linear), in the world frame with the path and heading integrated
+  by the core (:func:`motoflex_ros.vehicle.poses.world_poses`), as the vehicle_simulator node
+  publishes it.
 """
 import numpy as np
 import rerun as rr
-from scipy.integrate import cumulative_trapezoid
 from scipy.spatial.transform import Rotation
 
 from motoflex_ros.record import rerun_vehicle as rv
@@ -93,24 +94,14 @@ def _angle_indices(tree):
             if c.kind == "revolute" and c.group != "spin" and c.name != "pitch"]
 
 
-def _poses(tree, q_rows):
-    """Per frame: translations (n_t, 3) and rotation matrices (n_t, 3, 3) along q_rows."""
-    from motoflex_ros.vehicle.kinematics import frame_states
-    zero = np.zeros(len(tree.coordinates))
-    states = [frame_states(tree, q, zero) for q in q_rows]
-    frames = len(states[0])
-    return ([np.array([s[f].t for s in states]) for f in range(frames)],
-            [np.array([s[f].R for s in states]) for f in range(frames)])
-
-
-def _log_animated(rec, base, shapes, tree, q_rows, timeline, times):
-    translations, rotations = _poses(tree, q_rows)
+def _log_animated(rec, base, shapes, rotations, translations, timeline, times):
+    """Shapes moved by their frames' poses (n_t, n_frames, ...) on ``timeline`` at ``times``."""
     index = (rr.TimeColumn(timeline, sequence=times) if timeline != TIMELINE
              else rr.TimeColumn(TIMELINE, duration=times))
     for name, frame, archetype in shapes:
         rec.log(f"{base}/{name}/shape", archetype, static=True)
         rec.send_columns(f"{base}/{name}", indexes=[index], columns=rr.Transform3D.columns(
-            translation=translations[frame], mat3x3=rotations[frame]))
+            translation=translations[:, frame], mat3x3=rotations[:, frame]))
 
 
 def mode_rows(lin, speed, eigenvalue):
@@ -135,29 +126,29 @@ def _log_mode(rec, lin, shapes, mode, speed, eigenvalue, offset):
         f"{mode} at {speed * 3.6:.0f} km/h: lambda = {lam.real:.3f} {lam.imag:+.3f}i 1/s "
         f"({lam.imag / (2 * np.pi):.2f} Hz); exaggerated so the largest angle is "
         f"{MODE_AMPLITUDE_RAD} rad; two cycles on the {rv.MODE_TIMELINE} timeline."), static=True)
-    _log_animated(rec, base, shapes, lin.system.tree, rows, rv.MODE_TIMELINE,
+    from motoflex_ros.vehicle.poses import frame_poses
+    _log_animated(rec, base, shapes, *frame_poses(lin.system.tree, rows), rv.MODE_TIMELINE,
                   np.arange(len(rows)))
 
 
 def _log_road_test(rec, lin, shapes, speed):
+    from motoflex_ros.vehicle.poses import world_poses
     from motoflex_ros.vehicle.response import steer_pulse_response
     names = tuple(lin.state_names)
     pulse = steer_pulse_response(lin, speed, outputs=names)
-    states = {n: pulse.outputs[:, k] for k, n in enumerate(names)}
-    for name in ("y", "yaw"):
-        if name not in states and f"{name}_rate" in states:
-            states[name] = cumulative_trapezoid(states[f"{name}_rate"], pulse.time, initial=0)
-    q = np.array(_coordinate_map(lin, states)).T
-    angles = _angle_indices(lin.system.tree)
-    factor = ROAD_AMPLITUDE_RAD / max(np.abs(q[:, angles]).max(), 1e-12)
+    n_angles = len(lin.system.indep_pos)          # roll and the joint angles
+    factor = ROAD_AMPLITUDE_RAD / max(np.abs(pulse.outputs[:, :n_angles]).max(), 1e-12)
     joints = [n for n in names if n in {c.name for c in lin.system.tree.coordinates}]
-    rv.log_joint_series(rec, joints, pulse.time, np.column_stack([states[n] for n in joints]))
+    rv.log_joint_series(rec, joints, pulse.time,
+                        np.column_stack([pulse.outputs[:, names.index(n)] for n in joints]))
     rec.log("/vehicle/road_test/description", rr.TextDocument(
         f"Steer-torque pulse {pulse.torque:g} N m for {pulse.duration:g} s at "
-        f"{speed * 3.6:.0f} km/h; bodies in a frame moving with the bike, motion exaggerated "
-        f"x{factor:.3g}; joint series true size."), static=True)
-    _log_animated(rec, "/vehicle/road_test", shapes, lin.system.tree, q * factor, TIMELINE,
-                  pulse.time)
+        f"{speed * 3.6:.0f} km/h; bodies in the world frame (x along the initial heading, path "
+        f"and heading integrated), response scaled x{factor:.3g} (a larger pulse); joint "
+        f"series true size."), static=True)
+    poses = world_poses(lin, pulse.time, factor * pulse.outputs, speed)
+    _log_animated(rec, "/vehicle/road_test", shapes, poses.rotations, poses.translations,
+                  TIMELINE, pulse.time)
     return len(pulse.time)
 
 

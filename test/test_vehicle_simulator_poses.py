@@ -1,0 +1,52 @@
+"""The vehicle_simulator node only adapts: its /vehicle/bodies are the core's world poses.
+
+The node's road test is run with publishers that keep the messages (no DDS needed); every
+PoseArray must carry frame 'odom' and, pose by pose, the core's
+:func:`motoflex_ros.vehicle.poses.world_poses` of the same steer-pulse response (round trip
+through the message, quaternions compared as rotation matrices).
+"""
+import numpy as np
+import pytest
+
+pytest.importorskip("rclpy")
+from scipy.spatial.transform import Rotation  # noqa: E402
+
+from motoflex_ros.config import config_path  # noqa: E402
+from motoflex_ros.nodes.vehicle_simulator import WORLD_FRAME, VehicleSimulatorNode  # noqa: E402
+from motoflex_ros.vehicle.linearize import linearize  # noqa: E402
+from motoflex_ros.vehicle.model import load_vehicle  # noqa: E402
+from motoflex_ros.vehicle.poses import world_poses  # noqa: E402
+from motoflex_ros.vehicle.response import steer_pulse_response  # noqa: E402
+
+
+class KeepingPublisher:
+    def __init__(self):
+        self.messages = []
+
+    def publish(self, msg):
+        self.messages.append(msg)
+
+
+def test_node_bodies_are_core_world_poses_roundtrip():
+    model = load_vehicle(config_path("vehicles", "touring"))
+    lin, speed = linearize(model), 100.0 / 3.6       # the node's default road test
+    node = VehicleSimulatorNode.__new__(VehicleSimulatorNode)
+    node.joints_pub, node.bodies_pub = KeepingPublisher(), KeepingPublisher()
+    node._road_test(lin, model, speed)
+    pulse = steer_pulse_response(lin, speed, outputs=tuple(lin.state_names))
+    poses = world_poses(lin, pulse.time, pulse.outputs, speed)
+    frames = [lin.system.tree.body_frames[b.name] for b in model.bodies if b.mass > 0]
+    messages = node.bodies_pub.messages
+    assert len(messages) == len(pulse.time) == len(node.joints_pub.messages)
+    assert {m.header.frame_id for m in messages} == {WORLD_FRAME} == {"odom"}
+    for k in (0, len(messages) // 3, len(messages) - 1):
+        for pose, frame in zip(messages[k].poses, frames):
+            p, o = pose.position, pose.orientation
+            np.testing.assert_allclose([p.x, p.y, p.z], poses.translations[k, frame],
+                                       atol=1e-12)
+            np.testing.assert_allclose(Rotation.from_quat([o.x, o.y, o.z, o.w]).as_matrix(),
+                                       poses.rotations[k, frame], atol=1e-12)
+    # the bike runs forward in the world frame and the pulse turns its path
+    last = messages[-1].poses[0].position
+    assert last.x == pytest.approx(speed * pulse.time[-1], rel=0.01)
+    assert abs(poses.heading[-1]) > 1e-3 and abs(last.y) > 0.1
