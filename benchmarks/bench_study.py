@@ -27,11 +27,12 @@ from motoflex_ros.study.continuation import continue_eigenpairs, nearest_eigenpa
 from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL, full_factorial  # noqa: E402
 from motoflex_ros.study.motorcycle import decomposed_study, with_stiffness  # noqa: E402
 from motoflex_ros.study.sensitivity import run_sensitivity  # noqa: E402
+from motoflex_ros.units import kmh_to_ms  # noqa: E402
 from motoflex_ros.vehicle.linearize import linearize  # noqa: E402
 from motoflex_ros.vehicle.model import load_vehicle  # noqa: E402
 from motoflex_ros.vehicle.modes import modal_sweep  # noqa: E402
 
-SPEEDS = np.linspace(40.0, 210.0, 171) / 3.6
+SPEEDS = kmh_to_ms(np.linspace(40.0, 210.0, 171))
 COMPONENTS = ("frame", "front_assembly", "swingarm")
 
 

@@ -22,11 +22,12 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from motoflex_ros.config import config_path  # noqa: E402
+from motoflex_ros.units import kmh_to_ms  # noqa: E402
 from motoflex_ros.vehicle.linearize import linearize  # noqa: E402
 from motoflex_ros.vehicle.model import load_vehicle  # noqa: E402
 from motoflex_ros.vehicle.modes import modal_sweep  # noqa: E402
 
-SPEEDS = np.linspace(40.0, 210.0, 171) / 3.6
+SPEEDS = kmh_to_ms(np.linspace(40.0, 210.0, 171))
 REPEATS = 15
 
 
@@ -82,7 +83,7 @@ def bench_accuracy_study():
     t_ident = time.perf_counter() - start
     components = {name: load_component(name) for name in COMPONENTS}
     accuracy_study(load_vehicle(config_path("vehicles", "touring")), components, identified,
-                   np.unique(np.append(np.arange(40.0, 210.0, 5.0), 210.0)) / 3.6)
+                   kmh_to_ms(np.unique(np.append(np.arange(40.0, 210.0, 5.0), 210.0))))
     total = time.perf_counter() - start
     print(f"accuracy study: {total:.1f} s wall (bench identification {t_ident:.1f} s, "
           f"20 models {total - t_ident:.1f} s; target 30 s)")

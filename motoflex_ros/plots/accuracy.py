@@ -7,6 +7,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from motoflex_ros.plots.vehicle import save_png  # noqa: E402
+from motoflex_ros.units import ms_to_kmh  # noqa: E402
 
 __all__ = ["plot_mode_curves"]
 
@@ -23,7 +24,7 @@ def plot_mode_curves(speeds, curves, path, models=("flexible", "state_of_the_art
     ``curves``: {model: {"weave": eigenvalues (speeds,), "wobble": ...}} [1/s].
     """
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex=True)
-    kmh = np.asarray(speeds) * 3.6
+    kmh = ms_to_kmh(speeds)
     for col, mode in enumerate(("weave", "wobble")):
         for model in models:
             values = np.asarray(curves[model][mode])

@@ -7,6 +7,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from motoflex_ros.plots.vehicle import save_png  # noqa: E402
+from motoflex_ros.units import ms_to_kmh  # noqa: E402
 
 __all__ = ["plot_pearson_bars", "plot_accuracy_bars", "plot_stability_curves"]
 
@@ -71,7 +72,7 @@ def plot_stability_curves(speeds, real_parts, path, labels=None, mode="weave"):
     """Fig. 4 style: real part of a tracked mode over speed [km/h], the boundary Re = 0 and
     the two speed ranges. ``speeds`` [m/s] (s,), ``real_parts`` [1/s] (curves, s)."""
     fig, ax = plt.subplots(figsize=(7, 4))
-    kmh = np.asarray(speeds) * 3.6
+    kmh = ms_to_kmh(speeds)
     curves = np.atleast_2d(real_parts)
     for i, curve in enumerate(curves):
         ax.plot(kmh, curve, label=None if labels is None else labels[i])

@@ -9,6 +9,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from motoflex_ros.files import atomic_save_figure  # noqa: E402
+from motoflex_ros.units import ms_to_kmh  # noqa: E402
 
 __all__ = ["plot_modal_sweep", "save_png"]
 
@@ -23,7 +24,7 @@ def save_png(fig, path, dpi=120):
 
 def _root_locus(sweep, title):
     fig, ax = plt.subplots(figsize=(7, 5))
-    kmh = np.concatenate([np.full(len(ev), v * 3.6) for v, ev in zip(sweep.speeds,
+    kmh = np.concatenate([np.full(len(ev), ms_to_kmh(v)) for v, ev in zip(sweep.speeds,
                                                                       sweep.eigenvalues)])
     values = np.concatenate(sweep.eigenvalues)
     keep = (values.imag >= 0) & (np.abs(values) < 150.0)
@@ -44,7 +45,7 @@ def _root_locus(sweep, title):
 
 def _modes_over_speed(sweep, title):
     fig, axes = plt.subplots(2, 2, figsize=(9, 6), sharex=True)
-    kmh = sweep.speeds * 3.6
+    kmh = ms_to_kmh(sweep.speeds)
     for col, name in enumerate(("weave", "wobble")):
         axes[0, col].plot(kmh, sweep.frequency_hz(name), "o-", ms=3)
         axes[0, col].set_ylabel(f"{name} frequency [Hz]")

@@ -20,6 +20,7 @@ from scipy.spatial.transform import Rotation
 
 from motoflex_ros.record import rerun_vehicle as rv
 from motoflex_ros.record.rerun_log import TIMELINE
+from motoflex_ros.units import kmh_to_ms, ms_to_kmh
 
 __all__ = ["log_motorcycle", "vehicle_model", "ellipsoid_half_sizes", "mode_coordinates",
            "mode_rows",
@@ -30,6 +31,7 @@ MODE_FRAMES_PER_CYCLE = 24
 MODE_CYCLES = 2
 ROAD_AMPLITUDE_RAD = 0.15
 MIN_HALF_SIZE = 0.02
+DEFAULT_SPEED_MPS = float(kmh_to_ms(100.0))  # road test and modes at 100 km/h [m/s]
 
 
 def ellipsoid_half_sizes(mass, principal_moments):
@@ -123,7 +125,7 @@ def _log_mode(rec, lin, shapes, mode, speed, eigenvalue, offset):
     base = f"/vehicle/modes/{mode}"
     rec.log(base, rr.Transform3D(translation=offset), static=True)
     rec.log(f"{base}/description", rr.TextDocument(
-        f"{mode} at {speed * 3.6:.0f} km/h: lambda = {lam.real:.3f} {lam.imag:+.3f}i 1/s "
+        f"{mode} at {ms_to_kmh(speed):.0f} km/h: lambda = {lam.real:.3f} {lam.imag:+.3f}i 1/s "
         f"({lam.imag / (2 * np.pi):.2f} Hz); exaggerated so the largest angle is "
         f"{MODE_AMPLITUDE_RAD} rad; two cycles on the {rv.MODE_TIMELINE} timeline."), static=True)
     from motoflex_ros.vehicle.poses import frame_poses
@@ -143,8 +145,8 @@ def _log_road_test(rec, lin, shapes, speed):
                         np.column_stack([pulse.outputs[:, names.index(n)] for n in joints]))
     rec.log("/vehicle/road_test/description", rr.TextDocument(
         f"Steer-torque pulse {pulse.torque:g} N m for {pulse.duration:g} s at "
-        f"{speed * 3.6:.0f} km/h; bodies in the world frame (x along the initial heading, path "
-        f"and heading integrated), response scaled x{factor:.3g} (a larger pulse); joint "
+        f"{ms_to_kmh(speed):.0f} km/h; bodies in the world frame (x along the initial heading, "
+        f"path and heading integrated), response scaled x{factor:.3g} (a larger pulse); joint "
         f"series true size."), static=True)
     poses = world_poses(lin, pulse.time, factor * pulse.outputs, speed)
     _log_animated(rec, "/vehicle/road_test", shapes, poses.rotations, poses.translations,
@@ -152,7 +154,7 @@ def _log_road_test(rec, lin, shapes, speed):
     return len(pulse.time)
 
 
-def log_motorcycle(rec, model, speed_mps=100 / 3.6, modes=None, road_test=True):
+def log_motorcycle(rec, model, speed_mps=DEFAULT_SPEED_MPS, modes=None, road_test=True):
     """Log the motorcycle ``model`` (a VehicleModel): joint axes, weave and wobble, road test.
 
     ``modes``: {name: eigenvalue at speed_mps}; by default weave and wobble from the engine's

@@ -26,6 +26,7 @@ import rerun as rr
 from scipy.spatial.transform import Rotation
 
 from motoflex_ros.record.rerun_log import TIMELINE
+from motoflex_ros.units import ms_to_kmh
 
 __all__ = ["BodyShape", "log_body_shapes", "log_body_poses", "log_joint_series",
            "log_joint_axis", "log_eigenvalues", "log_mode_animation", "mode_frames",
@@ -115,7 +116,7 @@ def log_joint_axis(rec, name, point, direction, half_length=0.25, color=(30, 170
 
 def speed_kmh_index(speeds_mps):
     """Integer km/h of each speed [m/s] (the ``speed_kmh`` sequence); distinct or ValueError."""
-    kmh = np.round(np.asarray(speeds_mps, float) * 3.6).astype(int)
+    kmh = np.round(ms_to_kmh(speeds_mps)).astype(int)
     if len(np.unique(kmh)) != len(kmh):
         raise ValueError("speeds closer than 1 km/h cannot share the speed_kmh timeline")
     return kmh

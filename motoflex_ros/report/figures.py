@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from motoflex_ros.report.geometry import axis_segment  # noqa: E402
+from motoflex_ros.units import ms_to_kmh  # noqa: E402
 
 __all__ = ["png_of", "component_modes_figure", "axes_figure", "fig9_figure", "fig8_figure",
            "fig10_figure", "component_model"]
@@ -110,7 +111,7 @@ def axes_figure(name, identified):
 
 
 def _mode_curve(eig, mode):
-    speeds = np.asarray(eig["speeds_mps"], float) * 3.6
+    speeds = ms_to_kmh(eig["speeds_mps"])
     pairs = [(np.nan, np.nan) if z is None else z for z in eig["modes"][mode]]
     values = np.array(pairs, float)
     return speeds, values[:, 0], values[:, 1] / (2 * np.pi)

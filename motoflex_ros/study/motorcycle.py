@@ -19,6 +19,7 @@ import numpy as np
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.study.factorial import FACTOR_DESCRIPTIONS, FACTORS
 from motoflex_ros.study.tracked import pencil_study
+from motoflex_ros.units import ms_to_kmh
 
 __all__ = ["FACTOR_KEYS", "DIRECTION_SPEED", "MotorcycleStudy", "nominal_stiffness",
            "with_stiffness", "decomposed_study"]
@@ -86,7 +87,7 @@ def _mode_targets(sweep):
         value = sweep.modes[mode][0]
         if not np.isfinite(value):
             raise ModelError(f"the nominal motorcycle's {mode} is not found at "
-                             f"{sweep.speeds[0] * 3.6:.0f} km/h (modal sweep)")
+                             f"{ms_to_kmh(sweep.speeds[0]):.0f} km/h (modal sweep)")
         targets.append(complex(value))
     return targets
 

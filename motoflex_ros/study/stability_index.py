@@ -25,17 +25,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from motoflex_ros.errors import ModelError
+from motoflex_ros.units import kmh_to_ms
 
-__all__ = ["SPEED_RANGES_KMH", "StabilityIndex", "kmh_to_ms", "speed_range", "max_real_part",
+__all__ = ["SPEED_RANGES_KMH", "StabilityIndex", "speed_range", "max_real_part",
            "stable_fraction", "combined_index", "stability_index", "crossing_speeds"]
 
 # the paper's low and high speed ranges [km/h] (Sect. 4.3)
 SPEED_RANGES_KMH = {"low": (40.0, 100.0), "high": (100.0, 210.0)}
-
-
-def kmh_to_ms(speed_kmh):
-    """Convert a speed [km/h] into [m/s]."""
-    return np.asarray(speed_kmh, dtype=float) / 3.6
 
 
 def speed_range(name):

@@ -14,7 +14,7 @@ import numpy as np
 
 from motoflex_ros.config import load_yaml, validate
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.vehicle.schema import VEHICLE_SCHEMA
+from motoflex_ros.vehicle.schema import REFERENCE_SPEED, VEHICLE_SCHEMA
 from motoflex_ros.vehicle.tyre import tyre_from_config
 
 __all__ = ["Body", "Joint", "Wheel", "VehicleModel", "load_vehicle", "vehicle_from_dict",
@@ -99,7 +99,7 @@ class VehicleModel:
     joints: tuple
     wheels: tuple
     roles: dict = field(default_factory=dict)
-    reference_speed: float = 100.0 / 3.6
+    reference_speed: float = REFERENCE_SPEED
     flex: dict = field(default_factory=dict)
     elements: tuple = ()
 

@@ -5,8 +5,9 @@ reference configuration, REP-103 axes, so a product entry is -integral(x z dm)),
 N m/rad, damping in N m s/rad, gravity in m/s^2.
 """
 from motoflex_ros.config import Field, number, positive
+from motoflex_ros.units import kmh_to_ms
 
-__all__ = ["VEHICLE_SCHEMA", "TYRE_SCHEMAS"]
+__all__ = ["VEHICLE_SCHEMA", "TYRE_SCHEMAS", "REFERENCE_SPEED"]
 
 _INERTIA = Field("mapping", fields={
     "xx": positive(), "yy": positive(), "zz": positive(),
@@ -53,12 +54,14 @@ _WHEEL = Field("mapping", fields={
     "source": Field("str", required=False, default=""),
 })
 
+REFERENCE_SPEED = float(kmh_to_ms(100.0))  # [m/s] where modes are named unless the file says
+
 VEHICLE_SCHEMA = Field("mapping", fields={
     "name": Field("str"),
     "description": Field("str", required=False, default=""),
     "gravity": positive(required=False, default=9.81, help="[m/s^2]"),
     "root": Field("str", help="name of the floating-base body"),
-    "reference_speed": positive(required=False, default=100.0 / 3.6,
+    "reference_speed": positive(required=False, default=REFERENCE_SPEED,
                                 help="speed [m/s] at which modes are named before tracking"),
     "roles": Field("mapping", required=False, default={}, extra=True, item=Field("str")),
     "bodies": Field("mapping", extra=True, item=_BODY, min_items=1),
