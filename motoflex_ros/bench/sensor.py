@@ -122,10 +122,6 @@ class MarkerSensor:
         self.rng = np.random.default_rng(seed)
         self._queue = deque()
 
-    def measure_markers(self, position, rotation):
-        """True markers plus noise, rounded to the resolution (consumes the generator) [m]."""
-        return self.add_noise(marker_positions(position, rotation, self.q0, self.offsets))
-
     def add_noise(self, true_markers):
         """Measured markers from true ones: noise, then rounding (consumes the generator) [m]."""
         true_markers = np.asarray(true_markers, float)

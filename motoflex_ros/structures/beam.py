@@ -16,8 +16,8 @@ import numpy as np
 
 from motoflex_ros.errors import ModelError
 
-__all__ = ["Section", "Material", "tube_section", "rectangular_tube_section", "poisson_ratio",
-           "element_frames", "local_stiffness", "local_mass", "global_element_matrices"]
+__all__ = ["Section", "Material", "tube_section", "rectangular_tube_section", "element_frames",
+           "local_stiffness", "local_mass", "global_element_matrices"]
 
 
 @dataclass(frozen=True)
@@ -49,11 +49,6 @@ class Section:
     def Ip(self):
         """Polar second moment of area Iy + Iz [m^4] (rotary inertia about the beam axis)."""
         return self.Iy + self.Iz
-
-
-def poisson_ratio(material):
-    """Poisson ratio nu = E / (2 G) - 1 [-] of an isotropic material."""
-    return material.E / (2.0 * material.G) - 1.0
 
 
 def tube_section(outer_diameter, wall_thickness, nu=0.3):

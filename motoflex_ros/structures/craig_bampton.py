@@ -43,11 +43,6 @@ class CraigBamptonModel:
     zeta: float
 
     @property
-    def n_boundary(self):
-        """Number of boundary (physical) DOFs."""
-        return len(self.boundary)
-
-    @property
     def n_modes(self):
         """Number of kept fixed-interface modes."""
         return len(self.frequencies_hz)

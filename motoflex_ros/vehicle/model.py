@@ -111,12 +111,6 @@ class VehicleModel:
         """Sum of body and wheel masses [kg]."""
         return sum(b.mass for b in self.bodies) + sum(w.mass for w in self.wheels)
 
-    def centre_of_mass(self):
-        """Centre of mass of the whole vehicle [m], reference configuration."""
-        moment = sum(b.mass * b.com for b in self.bodies) + sum(w.mass * w.centre
-                                                              for w in self.wheels)
-        return moment / self.total_mass()
-
 
 def inertia_matrix(spec):
     """3x3 inertia tensor [kg m^2] from a mapping xx, yy, zz, xy, xz, yz (tensor entries)."""
