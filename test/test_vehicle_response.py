@@ -6,6 +6,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from motoflex_ros.config import config_path
+from motoflex_ros.errors import ModelError
 from motoflex_ros.identify.matrix_pencil import matrix_pencil_poles, unit_peak
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
@@ -78,3 +79,18 @@ def test_exact_discretisation_matches_ode_solver(lin):
     want = second.y[rows].T
     got = response.outputs[response.time >= 0.05]
     np.testing.assert_allclose(got, want, atol=1e-8 * np.abs(want).max())
+
+
+def test_default_outputs_and_unknown_output_named():
+    """Knife-edge wheels (Whipple bicycle): the default outputs are steer angle and roll rate
+    (yaw rate is not a state there), and asking for yaw rate names it and the states."""
+    bicycle = linearize(load_vehicle(config_path("vehicles", "whipple_benchmark")))
+    response = steer_pulse_response(bicycle, 5.0, t_end=0.1)
+    assert response.output_names == (bicycle.system.model.roles["steer"], "roll_rate")
+    with pytest.raises(ModelError, match=r"no state 'yaw_rate'.*not states.*roll_rate"):
+        steer_pulse_response(bicycle, 5.0, t_end=0.1, outputs=["yaw_rate"])
+
+
+def test_default_outputs_with_tyres_include_yaw_rate(lin):
+    response = steer_pulse_response(lin, 20.0, t_end=0.1)
+    assert response.output_names == ("steer", "roll_rate", "yaw_rate")

@@ -82,20 +82,50 @@ def regular_part(E, A, b, rtol=1e-10):
     return a, bz, V1 + V2 @ k_z, V2 @ k_u
 
 
-def steer_pulse_response(lin, speed, torque=20.0, duration=0.05, t_end=4.0, dt=0.005,
-                         outputs=None):
-    """Response to a steer-torque pulse of ``torque`` [N m] for ``duration`` [s] at ``speed``
-    [m/s], sampled every dt [s] to t_end [s]. outputs: state names (default: the steer angle,
-    the roll rate and, where it is a state (tyred wheels), the yaw rate). A singular E (massless
-    bodies) is reduced by :func:`regular_part`."""
-    joint = lin.system.model.roles.get("steer")
-    if joint is None:
-        raise ModelError(f"{lin.system.model.source}: no 'steer' role to apply the pulse to")
+def _output_names(lin, joint, outputs):
+    """The requested state names, or the default ones; ModelError naming an unknown one."""
     default = [joint, "roll_rate"] + (["yaw_rate"] if "yaw_rate" in lin.state_names else [])
     names = tuple(outputs or default)
     unknown = [n for n in names if n not in lin.state_names]
     if unknown:
-        raise ModelError(f"no state {unknown[0]!r}; states: {', '.join(lin.state_names)}")
+        hint = (" (with knife-edge wheels the lateral and yaw rates follow from the rolling "
+                "constraints: they are not states)"
+                if unknown[0] in ("yaw_rate", "y_rate") else "")
+        raise ModelError(f"{lin.system.model.source}: no state {unknown[0]!r} to output{hint}; "
+                         f"states: {', '.join(lin.state_names)}")
+    return names
+
+
+def steer_pulse_response(lin, speed, torque=20.0, duration=0.05, t_end=4.0, dt=0.005,
+                         outputs=None):
+    """Response of the linearized vehicle to a steer-torque pulse (module docstring).
+
+    Parameters
+    ----------
+    lin : LinearVehicle
+        The linearized vehicle; its model's 'steer' role names the joint the torque acts on.
+    speed : float
+        Forward speed [m/s].
+    torque, duration : float
+        Pulse torque [N m] on the steer joint and its duration [s].
+    t_end, dt : float
+        End time and sample period [s].
+    outputs : sequence of str, optional
+        State names to return (``lin.state_names``). Default: the steer angle [rad], the roll
+        rate [rad/s] and, only where it is a state (tyred wheels), the yaw rate [rad/s]; with
+        knife-edge wheels yaw rate is not a state and asking for it is a ModelError.
+
+    Returns
+    -------
+    PulseResponse
+        Sampled outputs (state units); a singular E (massless bodies) is reduced by
+        :func:`regular_part`.
+
+    """
+    joint = lin.system.model.roles.get("steer")
+    if joint is None:
+        raise ModelError(f"{lin.system.model.source}: no 'steer' role to apply the pulse to")
+    names = _output_names(lin, joint, outputs)
     rows = [lin.state_names.index(name) for name in names]
     E, A = lin.pencil([speed])
     a, b, to_x, feed = regular_part(E[0], A[0], joint_input(lin, joint))
