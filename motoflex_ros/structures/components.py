@@ -90,11 +90,19 @@ class Component:
         ``zeta`` [-] is the damping ratio given to every mode of the clamped reduced model.
         """
         cb, asm = self.craig_bampton(n_modes, f_max_hz, zeta)
+        keep, end_dofs = self.clamped_coordinates(cb)
+        return reduce_clamped(self.name, cb, keep, end_dofs, self.q0, asm.expand)
+
+    def clamped_coordinates(self, cb):
+        """Coordinates of :meth:`craig_bampton`'s model ``cb`` left when the clamps are fixed.
+
+        Returns (keep, end_dofs): the indices kept (the clamp nodes' boundary DOFs come first
+        and are dropped), and the loaded end's six DOFs (ux..rz) among the kept coordinates.
+        """
         n_clamp = 6 * len(self.clamp_nodes)
         keep = np.arange(n_clamp, cb.K.shape[0])
         end_pos = 6 * list(self.interface_nodes).index(self.loaded_end) - n_clamp
-        end_dofs = end_pos + np.arange(6)
-        return reduce_clamped(self.name, cb, keep, end_dofs, self.q0, asm.expand)
+        return keep, end_pos + np.arange(6)
 
     def dof_count(self):
         """Number of DOFs of the full (unclamped, links eliminated) model."""

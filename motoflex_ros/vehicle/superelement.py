@@ -122,14 +122,11 @@ def superelement_of(component, parent, n_modes=20, f_max_hz=600.0, zeta=0.01):
     node positions are taken in the vehicle frame (placement origin + component frame).
     """
     cb, asm = component.craig_bampton(n_modes, f_max_hz, zeta)
-    n_clamp = 6 * len(component.clamp_nodes)
-    keep = np.arange(n_clamp, cb.K.shape[0])
-    end = 6 * list(component.interface_nodes).index(component.loaded_end) - n_clamp
-    if end != 0:
+    keep, end_dofs = component.clamped_coordinates(cb)
+    if end_dofs[0] != 0:
         raise ModelError(f"component '{component.name}': the loaded end must be the first "
                          "interface node after the clamps")
-    reduced = reduce_clamped(component.name, cb, keep, end + np.arange(6), component.q0,
-                             asm.expand)
+    reduced = reduce_clamped(component.name, cb, keep, end_dofs, component.q0, asm.expand)
     gamma = _assembled_rigid_field(asm, component.node_xyz + component.origin)
     transform = cb.transform[:, keep]
     mass = asm.M if sp.issparse(asm.M) else sp.csr_matrix(asm.M)
