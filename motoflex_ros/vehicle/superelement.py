@@ -30,7 +30,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from motoflex_ros.errors import ModelError
-from motoflex_ros.spatial import cross
+from motoflex_ros.spatial import cross, skew
 from motoflex_ros.structures.clamped import reduce_clamped
 from motoflex_ros.vehicle.model import Body, Joint
 
@@ -100,9 +100,7 @@ def rigid_field(xyz):
     n = len(xyz)
     field = np.zeros((n, 6, 6))
     r = np.asarray(xyz, float)
-    field[:, 0, 1], field[:, 0, 2] = r[:, 2], -r[:, 1]
-    field[:, 1, 0], field[:, 1, 2] = -r[:, 2], r[:, 0]
-    field[:, 2, 0], field[:, 2, 1] = r[:, 1], -r[:, 0]
+    field[:, 0:3, 0:3] = -np.moveaxis(skew(r.T), -1, 0)
     field[:, 0:3, 3:6] = np.eye(3)
     field[:, 3:6, 0:3] = np.eye(3)
     return field.reshape(6 * n, 6)
