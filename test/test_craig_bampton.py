@@ -4,6 +4,7 @@ import pytest
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.structures import load_component
 from motoflex_ros.structures.beam import Material
 from motoflex_ros.structures.components import tube_component
@@ -22,7 +23,7 @@ def _full_clamped(component):
     return asm.K, asm.M, asm.node_dofs(component.loaded_end)
 
 
-@pytest.mark.parametrize("name", ["frame", "front_assembly", "swingarm"])
+@pytest.mark.parametrize("name", MOTORCYCLE_COMPONENTS)
 def test_static_loaded_end_equals_full_model_roundtrip(name):
     comp = load_component(name)
     red = comp.clamped_reduced()
@@ -51,13 +52,13 @@ def _compare_frequencies(name, f_limit):
 # 230-290 Hz come out 1-3 % high (truncation: (f / f_cut)^2 is already 0.15 there). Kept as a
 # strict xfail so that it reports when a model or the reduction starts to meet it.
 @pytest.mark.xfail(strict=True, reason="CB truncation at 600 Hz: 1-3 % error at 230-290 Hz")
-@pytest.mark.parametrize("name", ["frame", "front_assembly", "swingarm"])
+@pytest.mark.parametrize("name", MOTORCYCLE_COMPONENTS)
 def test_eigenfrequencies_below_300hz_equal_full_model(name):
     reduced, full = _compare_frequencies(name, 300.0)
     assert np.allclose(reduced, full, rtol=5e-3)
 
 
-@pytest.mark.parametrize("name", ["frame", "front_assembly", "swingarm"])
+@pytest.mark.parametrize("name", MOTORCYCLE_COMPONENTS)
 def test_table1_modes_equal_full_model(name):
     """The first torsion and bending modes below 300 Hz (Table 1's, except the swingarm
     torsion at 321 Hz) agree with the nearest full-model mode within 0.5 %."""

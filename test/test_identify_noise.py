@@ -10,6 +10,7 @@ import pytest
 from motoflex_ros.bench.actuator import LoadActuator
 from motoflex_ros.bench.campaign import only_tests, run_campaign, setup_campaign, with_sensor
 from motoflex_ros.bench.sensor import MarkerSensor
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.identify.identifier import Identifier
 from motoflex_ros.identify.results import static_model
 from motoflex_ros.spatial import rotation_from_vector
@@ -31,7 +32,7 @@ def replay_static(setup, samples, motions, seed):
     return static_model(identifier.readings()["static"], q0)[0]
 
 
-@pytest.mark.parametrize("component", ["frame", "front_assembly", "swingarm"])
+@pytest.mark.parametrize("component", MOTORCYCLE_COMPONENTS)
 def test_static_noise_within_one_percent_and_interval_covers(component):
     setup = only_tests(setup_campaign(component), ("static",))
     assert setup.protocol.sensor.noise_m == pytest.approx(5e-6)
@@ -64,7 +65,7 @@ def test_noisy_interval_width_scales_with_noise():
     assert widths[1] / widths[0] == pytest.approx(0.5, rel=0.15)
 
 
-@pytest.mark.parametrize("component", ["frame", "front_assembly", "swingarm"])
+@pytest.mark.parametrize("component", MOTORCYCLE_COMPONENTS)
 def test_free_decay_with_noise_within_one_percent_of_eigenvalue(component):
     """Release from the preload with the default 5 um sensor: the first torsion/bending mode,
     which dominates the decay, within 1 % of its eigenvalue (eq. 9). (The other one can carry

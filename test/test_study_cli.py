@@ -12,7 +12,7 @@ import pytest
 import yaml
 
 from motoflex_ros.cli.main import main
-from motoflex_ros.config import config_path
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS, config_path
 from motoflex_ros.structures.components import load_component
 from motoflex_ros.study.factorial import FACTORS, PAPER_TABLE2_NOMINAL, full_factorial
 from motoflex_ros.study.motorcycle import with_stiffness
@@ -22,7 +22,7 @@ from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep
 from motoflex_ros.vehicle.variants import build_variant
 
-COMPONENTS = ("frame", "front_assembly", "swingarm")
+COMPONENTS = MOTORCYCLE_COMPONENTS
 
 
 @pytest.fixture(scope="module")
