@@ -22,7 +22,9 @@ from motoflex_ros.identify.results import identify_component
 from motoflex_ros.spatial import rotation_from_vector
 
 __all__ = ["CampaignSetup", "CampaignRun", "setup_campaign", "make_stages", "run_campaign",
-           "identify_components", "only_tests", "with_sensor"]
+           "identify_components", "only_tests", "with_sensor", "checked_noise", "MAX_NOISE_M"]
+
+MAX_NOISE_M = 1.0  # largest sensor-noise override [m] (the nodes' parameter range)
 
 
 @dataclass(frozen=True)
@@ -59,10 +61,21 @@ def setup_campaign(component, protocol=None, noise_m=None):
     elif isinstance(protocol, str):
         protocol = load_protocol(protocol)
     if noise_m is not None:
-        protocol = replace(protocol, sensor=replace(protocol.sensor, noise_m=float(noise_m)))
+        protocol = replace(protocol, sensor=replace(protocol.sensor,
+                                                    noise_m=checked_noise(noise_m)))
     modes = clamped_modes(reduced)
     return CampaignSetup(comp.name, reduced, modes, protocol,
                          plan_campaign(protocol, reduced, modes), comp)
+
+
+def checked_noise(noise_m, source="sensor noise override", key="noise_m"):
+    """A sensor-noise override [m] (standard deviation per coordinate), checked to [0, 1] m."""
+    from motoflex_ros.errors import ConfigError
+    value = float(noise_m)
+    if not 0.0 <= value <= MAX_NOISE_M:
+        raise ConfigError(source, key, f"sensor noise must be in [0, {MAX_NOISE_M:g}] m, "
+                                       f"got {value:g}")
+    return value
 
 
 def with_sensor(setup, **changes):

@@ -9,6 +9,7 @@ writes). A node that dies, SIGINT or SIGTERM stop the run with a message naming 
 import time
 from pathlib import Path
 
+from motoflex_ros.cli.inputs import noise_argument
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
@@ -25,8 +26,8 @@ def register(subparsers):
                    help="components (default: frame front_assembly swingarm)")
     p.add_argument("--protocol", metavar="FILE", help="protocol YAML (default: each "
                    "component's shipped protocol)")
-    p.add_argument("--noise", type=float, metavar="SIGMA",
-                   help="sensor noise standard deviation [m] (overrides the protocol)")
+    p.add_argument("--noise", type=noise_argument, metavar="SIGMA",
+                   help="sensor noise standard deviation [m], in [0, 1] (overrides the protocol)")
     p.add_argument("--seed", type=int, default=0, help="seed of the sensor noise (default 0)")
     p.add_argument("--out", metavar="DIR", help="bag directory to create (default "
                    "bags/campaign_<UTC time>)")

@@ -9,7 +9,7 @@ from motoflex_ros.config import MOTORCYCLE_COMPONENTS, load_yaml
 from motoflex_ros.errors import ConfigError
 
 __all__ = ["COMPONENTS", "identification_results", "motorcycle_components",
-           "add_study_inputs", "study_speeds"]
+           "add_study_inputs", "study_speeds", "noise_argument"]
 
 COMPONENTS = MOTORCYCLE_COMPONENTS
 
@@ -53,3 +53,14 @@ def study_speeds(step_kmh, max_step_kmh):
     if kmh[-1] < 210.0 - 1e-9:
         kmh = np.append(kmh, 210.0)
     return kmh / 3.6
+
+
+def noise_argument(text):
+    """Type of --noise for argparse: a sensor-noise standard deviation [m] in [0, 1]."""
+    import argparse
+
+    from motoflex_ros.bench.campaign import checked_noise
+    try:
+        return checked_noise(float(text), "command line", "--noise")
+    except ValueError as exc:  # ConfigError is a ValueError; so is float('abc')
+        raise argparse.ArgumentTypeError(getattr(exc, "problem", str(exc))) from None

@@ -36,8 +36,9 @@ def frame_id(component):
 
 def campaign_setups(params):
     """{component: CampaignSetup} from the bench parameters (the same call as offline)."""
-    from motoflex_ros.bench.campaign import setup_campaign
-    noise = None if params["noise"] < 0 else params["noise"]
+    from motoflex_ros.bench.campaign import checked_noise, setup_campaign
+    noise = None if params["noise"] == -1.0 else checked_noise(params["noise"], "ROS parameters",
+                                                               "noise")
     protocol = params["protocol"] or None
     return {name: setup_campaign(name, protocol, noise) for name in params["components"]}
 
