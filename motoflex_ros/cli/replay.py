@@ -1,10 +1,12 @@
-"""``motoflex replay BAG [--rate R] [--identify FILE]``: republish a recorded run.
+"""``motoflex replay BAG [--rate R] [--wait-for NODE] [--identify FILE]``: republish a run.
 
 Without --identify: runs the bag_replay node in this process on the current ROS_DOMAIN_ID, so
 that other nodes (a viewer, your own identification node) can listen; ``--rate 0`` publishes
-as fast as possible. With --identify FILE: replays the bench topics into a fresh identification
-node on a private domain and writes its results to FILE (the format of ``motoflex identify
---out``), which reproduces the live run's identification.json.
+as fast as possible; ``--wait-for NODE`` holds the first message until NODE has announced
+itself on /rig/ready (otherwise a listener that joins late misses the first messages). With
+--identify FILE: replays the bench topics into a fresh identification node on a private domain
+and writes its results to FILE (the format of ``motoflex identify --out``), which reproduces
+the live run's identification.json.
 """
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
@@ -24,6 +26,10 @@ def register(subparsers):
                              "default 1, or 0 with --identify)")
     parser.add_argument("--identify", metavar="FILE",
                         help="identify the components again from the replay; write FILE")
+    parser.add_argument("--wait-for", action="append", default=[], metavar="NODE",
+                        help="wait until node NODE has announced itself on /rig/ready (its "
+                             "subscriptions see the replay) before the first message, so it "
+                             "misses nothing; repeatable")
     parser.set_defaults(func=run)
 
 
@@ -46,9 +52,11 @@ def run(args):
         return _identify(info, rate, args.identify)
     from motoflex_ros.nodes.bag_replay import BagReplay
     from motoflex_ros.nodes.runtime import run_node
-    print(f"replaying {info.path}: {info.message_count} messages at rate {rate:g}")
-    return run_node(BagReplay, ["motoflex_replay", "--ros-args", "-p", f"bag:={info.path}",
-                                "-p", f"rate:={rate!r}"])
+    print(f"replaying {info.path}: {info.message_count} messages at rate {rate:g}", flush=True)
+    params = ["-p", f"bag:={info.path}", "-p", f"rate:={rate!r}"]
+    if args.wait_for:
+        params += ["-p", f"wait_for:={list(args.wait_for)!r}"]
+    return run_node(BagReplay, ["motoflex_replay", "--ros-args", *params])
 
 
 def _identify(info, rate, out):
