@@ -98,10 +98,13 @@ def test_single_window_tables_say_na(single):
     assert rows["torsion"].split()[6] == "n/a" and rows["bending"].split()[6] == "n/a"
     assert "[" in rows["static"]
     data = to_jsonable({c: single.to_dict() for c in ("frame", "front_assembly", "swingarm")})
+    cells = {cell.path: cell for row in identification_table(data).rows for cell in row
+             if cell.path}
     for c in data:
-        data[c]["torsion"]["k"] = None          # an undefined value reaches the report
-    cells = [cell for row in identification_table(data).rows for cell in row]
-    undefined = [cell for cell in cells if cell.path and cell.path.endswith("torsion/k")]
-    assert len(undefined) == 3 and all(c.text == "n/a" and c.value is None for c in undefined)
+        for bound in (0, 1):
+            assert cells[f"{c}/torsion/ci/k/{bound}"].text == "n/a"
+            assert cells[f"{c}/torsion/ci/k/{bound}"].value is None
+            static = cells[f"{c}/static/ci/k/{bound}"]
+            assert static.value == data[c]["static"]["ci"]["k"][bound]
     split_cells = [cell for row in table2(data).rows for cell in row if cell.text == "n/a"]
     assert {c.kind for c in split_cells} == {"json", "diff"}   # tube's k_t, k_b and their diffs

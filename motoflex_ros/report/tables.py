@@ -120,8 +120,16 @@ def table2(identify, file="identify.json"):
                  "and bending axes (eq. 12)", header, tuple(rows))
 
 
+def _k_interval(identify, file, c, test):
+    """Cells of the 95 % interval of k: 'n/a' where undefined (null), '-' where absent."""
+    if "k" not in identify[c][test].get("ci", {}):
+        return (Cell("-"), Cell("-"))
+    return tuple(_json(identify, file, c, test, "ci", "k", i) for i in (0, 1))
+
+
 def identification_table(identify, file="identify.json"):
-    """Identified l, beta, b, k, c (and J, f) per component and test (eqs. 1-11)."""
+    """Identified l, beta, b, k, c (and J, f) per component and test (eqs. 1-11), with the
+    95 % interval of k."""
     names = ("l", "beta", "b", "k", "c", "J", "f_hz")
     rows = []
     for c in COMPONENTS:
@@ -129,10 +137,11 @@ def identification_table(identify, file="identify.json"):
             values = identify[c][test]
             rows.append((Cell(c), Cell(test), *(
                 _json(identify, file, c, test, n) if n in values else Cell("-")
-                for n in names)))
+                for n in names), *_k_interval(identify, file, c, test)))
     return Table("identification", "Identified lumped stiffness models",
                  ("component", "test", "l [m]", "beta [rad]", "b [m]", "k [N m/rad]",
-                  "c [N m s/rad]", "J [kg m^2]", "f [Hz]"), tuple(rows))
+                  "c [N m s/rad]", "J [kg m^2]", "f [Hz]", "k 95 % low", "k 95 % high"),
+                 tuple(rows))
 
 
 def _nearest(eigenvalues, target):
