@@ -6,6 +6,7 @@ bench. The verb's indices are checked run by run against an independent path: th
 engine's own linearization and modal sweep (QZ + MAC) of that run's motorcycle.
 """
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -94,6 +95,21 @@ def test_negative_identified_stiffness_is_named(identified_file, tmp_path, capsy
     bad.write_text(yaml.safe_dump(data))
     assert main(["study", "sensitivity", "--identified", str(bad)]) == 2
     assert "frame.k_b" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("verb", [["study", "accuracy"],
+                                  ["eig", "--vehicle", "touring", "--speeds", "20",
+                                   "--flex", "static", "--components", "swingarm"]])
+def test_bad_identified_value_names_the_file(verb, tmp_path, capsys):
+    """The message names the file the user gave, the dotted key and the allowed range."""
+    example = Path(__file__).resolve().parents[1] / "bags" / "example" / "identification.json"
+    data = yaml.safe_load(example.read_text())
+    data["swingarm"]["static"]["k"] = -5.0
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(yaml.safe_dump(data))
+    assert main([*verb, "--identified", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert f"{bad}: key 'swingarm.static.k'" in err and "(> 0)" in err
 
 
 @pytest.mark.parametrize(("argv", "key"), [(["--levels", "1"], "levels"),

@@ -21,7 +21,8 @@ def identification_results(path=None, components=COMPONENTS, seed=0):
         data = load_yaml(Path(path))
         if not isinstance(data, dict):
             raise ConfigError(path, "", "expected a mapping {component: results}")
-        return data
+        from motoflex_ros.identify.results import ResultsFile
+        return ResultsFile(data, path)
     from motoflex_ros.bench.campaign import identify_components
 
     print("running the bench identification ...", file=sys.stderr)

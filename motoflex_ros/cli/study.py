@@ -68,12 +68,13 @@ def run(args):
 
 
 def _with_table2(identified):
+    from motoflex_ros.identify.results import results_source
     from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL
     from motoflex_ros.study.motorcycle import with_stiffness
 
     missing = [c for c in _COMPONENTS if c not in identified]
     if missing:
-        raise ConfigError("identification results", missing[0], "missing")
+        raise ConfigError(results_source(identified), missing[0], "missing")
     return with_stiffness(identified, PAPER_TABLE2_NOMINAL)
 
 

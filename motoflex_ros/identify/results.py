@@ -20,7 +20,22 @@ from motoflex_ros.identify.peaks import axis_of_pose, unwrap_axis, wrap_axis
 from motoflex_ros.identify.stiffness import modal_damping, modal_inertia, static_damping
 from motoflex_ros.identify.uncertainty import LEVEL, interval, propagate
 
-__all__ = ["AxisModel", "ComponentIdentification", "identify_component", "static_model"]
+__all__ = ["AxisModel", "ComponentIdentification", "identify_component", "static_model",
+           "ResultsFile", "results_source"]
+
+
+class ResultsFile(dict):
+    """Identification results ({component: result dict}) that remember where they came from,
+    so that an error about a value can name the file."""
+
+    def __init__(self, data, source):
+        super().__init__(data)
+        self.source = str(source)
+
+
+def results_source(identified):
+    """The file the results were read from, or a generic name for results built in memory."""
+    return getattr(identified, "source", "identification results")
 
 
 @dataclass(frozen=True)

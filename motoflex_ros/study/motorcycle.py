@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.identify.results import ResultsFile, results_source
 from motoflex_ros.study.factorial import FACTOR_DESCRIPTIONS, FACTORS
 from motoflex_ros.study.tracked import pencil_study
 from motoflex_ros.units import ms_to_kmh
@@ -31,8 +32,6 @@ DIRECTION_SPEED = 0.0
 """Speed [m/s] of the linearizations that give the stiffness directions dA_0/dk_i: at v = 0,
 A(v) = A_0 + v A_1 + v^2 A_2 is exactly its speed-independent coefficient A_0, which is what
 :func:`motoflex_ros.study.tracked.pencil_study` asks for."""
-
-_SOURCE = "identification results"
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,8 +55,8 @@ def nominal_stiffness(identified):
     for factor in FACTORS:
         component, key = FACTOR_KEYS[factor]
         if not isinstance(identified.get(component), dict) or key not in identified[component]:
-            raise ConfigError(_SOURCE, f"{component}.{key}", "missing (run motoflex identify "
-                                                             "or give a complete file)")
+            raise ConfigError(results_source(identified), f"{component}.{key}",
+                              "missing (run motoflex identify or give a complete file)")
         check_split_identifiable(identified, component)
         nominal[factor] = float(identified[component][key])
     return nominal
@@ -70,6 +69,8 @@ def with_stiffness(identified, values):
     verdict on its eq. (12) split (the given values are judged instead).
     """
     out = {name: dict(result) for name, result in identified.items()}
+    if isinstance(identified, ResultsFile):
+        out = ResultsFile(out, identified.source)
     for factor, value in values.items():
         component, key = FACTOR_KEYS[factor]
         out[component][key] = float(value)

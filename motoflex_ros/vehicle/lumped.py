@@ -43,6 +43,7 @@ import numpy as np
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.identify.axis import axis_stiffness
+from motoflex_ros.identify.results import results_source
 from motoflex_ros.identify.stiffness import GAMMA_S
 from motoflex_ros.vehicle.model import Body, Joint, composite_inertia
 
@@ -192,17 +193,17 @@ def _need(identified, component, *keys):
     for key in (component, *keys):
         path = f"{path}.{key}" if path else key
         if not isinstance(value, dict) or key not in value:
-            raise ConfigError("identification results", path, "missing (run motoflex identify "
+            raise ConfigError(results_source(identified), path, "missing (run motoflex identify "
                                                               "or give a complete result file)")
         value = value[key]
     name = keys[-1]
     positive = name.startswith("k")           # stiffness [N m/rad]
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
-        raise ConfigError("identification results", path, f"expected a finite number, got "
+        raise ConfigError(results_source(identified), path, f"expected a finite number, got "
                                                           f"{value!r}")
     if (positive and value <= 0) or (name in ("J", "c") and value < 0):
         allowed = "> 0" if positive else ">= 0"
-        raise ConfigError("identification results", path,
+        raise ConfigError(results_source(identified), path,
                           f"value {value:g} is out of the allowed range ({allowed})")
     return float(value)
 
