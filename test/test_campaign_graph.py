@@ -79,7 +79,12 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     assert proc.returncode == 0, err
     # issue 9: every campaign leaves its rerun recording and report beside the bag
     assert (bag / "run.rrd").stat().st_size > 10_000
-    assert "<html" in (bag / "report.html").read_text()
+    report = (bag / "report.html").read_text()
+    assert "<html" in report
+    # the run's own timings reach the report (the graph's wall time as the campaign measured it)
+    timings = json.loads((bag / "timings.json").read_text())
+    assert 0.0 < timings["graph"] < 600.0 and timings["rerun recording"] > 0.0
+    assert "campaign: graph" in report
     live = json.loads((bag / "identification.json").read_text())
     offline = {n: to_jsonable(r.identification.to_dict())
                for n, (_, r) in identify_components([COMPONENT], seed=0).items()}

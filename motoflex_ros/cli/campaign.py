@@ -6,11 +6,12 @@ against the paper's Table 2, stops every node and leaves the bag in ``--out``
 (bags/<name>/: rosbag2 MCAP + identification.json, the same file ``motoflex identify --out``
 writes). A node that dies, SIGINT or SIGTERM stop the run with a message naming what happened.
 """
+import json
 import time
 from pathlib import Path
 
 from motoflex_ros.cli.inputs import noise_argument
-from motoflex_ros.cli.output import emit_json, print_table
+from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
 __all__ = ["register", "run"]
@@ -46,7 +47,8 @@ def run(args):
     out = args.out or time.strftime("bags/campaign_%Y%m%d_%H%M%S", time.gmtime())
     outcome = run_campaign_graph(args.components, out, args.noise, args.seed, args.protocol,
                                  progress=not args.json)
-    written = _recording_and_report(outcome.bag, args.report, progress=not args.json)
+    timings = {"graph": outcome.wall_s}
+    written = _recording_and_report(outcome.bag, args.report, timings, progress=not args.json)
     if args.json:
         emit_json(outcome.results)
         return 0
@@ -63,15 +65,27 @@ def run(args):
     return 0
 
 
-def _recording_and_report(bag, mode, progress):
-    """The run's rerun recording and report (issue 9); returns the paths written."""
-    if mode == "none":
-        return []
-    from motoflex_ros.record.rerun_bag import convert_bag
-    from motoflex_ros.report.build import build_report
-    rrd, _ = convert_bag(bag, progress=progress)
-    report, _ = build_report(Path(bag), compute=mode == "full", progress=progress)
-    return [rrd, report]
+def _recording_and_report(bag, mode, timings, progress):
+    """The run's timings.json [s], rerun recording and report (issue 9); the paths written.
+
+    ``timings``: {step: wall seconds} so far; the rerun conversion's time is added, and the
+    report shows them beside its own steps.
+    """
+    written = []
+    if mode != "none":
+        from motoflex_ros.record.rerun_bag import convert_bag
+        start = time.perf_counter()
+        rrd, _ = convert_bag(bag, progress=progress)
+        timings["rerun recording"] = time.perf_counter() - start
+        written.append(rrd)
+    timings_file = Path(bag) / "timings.json"
+    atomic_write_text(timings_file, json.dumps(timings, indent=1) + "\n")
+    written.insert(0, timings_file)
+    if mode != "none":
+        from motoflex_ros.report.build import build_report
+        report, _ = build_report(Path(bag), compute=mode == "full", progress=progress)
+        written.append(report)
+    return written
 
 
 def _table(results):
