@@ -31,9 +31,12 @@ def setup():
     return load_vehicle(config_path("vehicles", "touring")), components, identified
 
 
-def largest_difference(setup, component):
+def largest_difference(setup, flexible):
+    """Largest relative eigenvalue difference, decomposed vs static, with ``flexible`` (a
+    component name or a list of them) lumped."""
     vehicle, components, identified = setup
-    sweeps = [modal_sweep(linearize(build_variant(vehicle, variant, [component], identified,
+    flexible = [flexible] if isinstance(flexible, str) else list(flexible)
+    sweeps = [modal_sweep(linearize(build_variant(vehicle, variant, flexible, identified,
                                                   components)), SPEEDS)
               for variant in ("static", "decomposed")]
     out = {}
@@ -56,4 +59,17 @@ def test_decomposed_equals_static_roundtrip(setup, component):
                    "0.071 m); wobble differs by about 9 % (frequency 7 %)")
 def test_decomposed_equals_static_front_assembly(setup):
     difference = largest_difference(setup, "front_assembly")
+    assert difference["weave"] < 0.01 and difference["wobble"] < 0.01, difference
+
+
+def test_decomposed_equals_static_frame_and_swingarm_together(setup):
+    """The two components that hold the 1 % also hold it together (0.8 % weave, 0.3 % wobble)."""
+    difference = largest_difference(setup, ["frame", "swingarm"])
+    assert difference["weave"] < 0.01 and difference["wobble"] < 0.01, difference
+
+
+@pytest.mark.xfail(strict=True, reason="all three components: the front assembly's 9 % on wobble "
+                   "carries over (weave 1.2 %, wobble 9.1 %); see the front-assembly case")
+def test_decomposed_equals_static_all_components(setup):
+    difference = largest_difference(setup, list(COMPONENTS))
     assert difference["weave"] < 0.01 and difference["wobble"] < 0.01, difference
