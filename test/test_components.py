@@ -67,7 +67,7 @@ def test_mode_labels_of_straight_tube_analytic():
 
 
 def test_interface_points_meet_hardpoints():
-    """Hard points (/tmp/mf/hardpoints.md, vehicle frame, m) within 1 mm."""
+    """Hard points (docs/hardpoints.md, vehicle frame, m) within 1 mm."""
     expect = {"frame": {"steering_head": (1.2216, 0.780)},
               "front_assembly": {"steering_head": (1.2216, 0.780), "front_axle": (1.485, 0.300),
                                  "arm_pivot": (1.030, 0.420)},
