@@ -17,6 +17,7 @@ from motoflex_ros.cli.main import main
 from motoflex_ros.cli.output import to_jsonable
 from motoflex_ros.errors import ModelError
 from motoflex_ros.identify.decomposition import decompose_stiffness, split_problem
+from motoflex_ros.identify.results import ResultsFile
 from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL
 from motoflex_ros.study.motorcycle import nominal_stiffness, with_stiffness
 from motoflex_ros.vehicle.lumped import flex_joints
@@ -98,6 +99,9 @@ def test_sensitivity_study_refuses_unidentifiable_split(tube):
     identified = motorcycle_results(tube, "front_assembly")
     with pytest.raises(ModelError, match=r"component 'front_assembly'.*not identifiable"):
         nominal_stiffness(identified)
+    # results read from a file: the message names the file
+    with pytest.raises(ModelError, match=r"^run/id\.json: component 'front_assembly'"):
+        nominal_stiffness(ResultsFile(identified, "run/id.json"))
     # stiffnesses given explicitly (the paper's Table 2) replace the identified split
     given = nominal_stiffness(with_stiffness(identified, PAPER_TABLE2_NOMINAL))
     assert given == PAPER_TABLE2_NOMINAL

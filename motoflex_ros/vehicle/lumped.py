@@ -177,10 +177,10 @@ def check_split_identifiable(identified, component):
            if isinstance(value, bool) or not isinstance(value, (int, float))
            or not np.isfinite(value) or value <= 0]
     if result.get("split_identifiable") is False or bad:
-        raise ModelError(f"component '{component}': its torsion/bending split (eq. 12) is not "
-                         f"identifiable ({problem or ', '.join(bad)}); the decomposed variant "
-                         f"needs positive k_t and k_b, use the static, torsion or bending "
-                         f"variant")
+        raise ModelError(f"{results_source(identified)}: component '{component}': its "
+                         f"torsion/bending split (eq. 12) is not identifiable "
+                         f"({problem or ', '.join(bad)}); the decomposed variant needs "
+                         f"positive k_t and k_b, use the static, torsion or bending variant")
 
 
 def _show(value):
