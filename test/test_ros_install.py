@@ -47,6 +47,14 @@ def test_ros_install_prefix_puts_executables_in_lib_package(tmp_path):
         assert (lib / name).is_file() and (lib / name).stat().st_mode & 0o111, name
     assert (prefix / "share" / "motoflex_ros" / "package.xml").is_file()
     site = next(prefix.glob("lib/python3*/site-packages"))
+    # the ament package marker: what `ros2 run` / `ros2 pkg` use to find the package
+    index = subprocess.run(
+        [sys.executable, "-c", "from ament_index_python.packages import "
+         "get_package_share_directory as g; print(g('motoflex_ros'))"],
+        capture_output=True, text=True, timeout=120,
+        env={"AMENT_PREFIX_PATH": str(prefix), "PATH": "/usr/bin:/bin"})
+    assert index.returncode == 0, index.stderr
+    assert Path(index.stdout.strip()) == prefix / "share" / "motoflex_ros"
     run = subprocess.run([str(lib / "sim_clock"), "--ros-args", "-p", "window:=0"],
                          capture_output=True, text=True, timeout=120,
                          env={"PYTHONPATH": str(site), "ROS_LOG_DIR": str(tmp_path / "log"),
