@@ -119,6 +119,48 @@ def test_dask_path_identical_to_in_process(design, in_process):
         np.testing.assert_array_equal(on_dask.outputs[name], values)
 
 
+@pytest.fixture(scope="module")
+def motorcycle_study():
+    """The real study function: the decomposed lumped touring motorcycle with the paper's
+    Table 2 stiffnesses on the components' finite-element torsion and bending axes (no bench
+    run), 40-210 km/h every 10 km/h."""
+    from motoflex_ros.cli.inputs import motorcycle_components, study_speeds
+    from motoflex_ros.config import resolve_config
+    from motoflex_ros.study.motorcycle import decomposed_study, with_stiffness
+    from motoflex_ros.vehicle.model import load_vehicle
+
+    components = motorcycle_components()
+    reduced = {name: component.clamped_reduced() for name, component in components.items()}
+    axes = {name: {test: {"l": float(r.mode_axis(test).l), "beta": float(r.mode_axis(test).beta)}
+                   for test in ("torsion", "bending")} for name, r in reduced.items()}
+    vehicle = load_vehicle(resolve_config("vehicles", "touring"))
+    return decomposed_study(vehicle, components, with_stiffness(axes, PAPER_TABLE2_NOMINAL),
+                            study_speeds(10.0, 10.0)).study
+
+
+@pytest.mark.slow  # starting two worker processes: ~20 s on the shared 2-core machine
+def test_dask_worker_processes_identical_to_in_process(motorcycle_study):
+    """Two single-threaded worker processes (the runner's LocalCluster) give the real study's
+    eigenvalues bit for bit as in this process, four blocks of 16 runs."""
+    import os
+
+    from distributed import Client
+
+    from motoflex_ros.study.runner import local_cluster
+
+    design = full_factorial(PAPER_TABLE2_NOMINAL, levels=2, rel_range=0.10)
+    in_process = run_study(motorcycle_study, design, progress=False, block_size=16)
+    with local_cluster(n_workers=2, processes=True) as cluster, Client(cluster) as client:
+        worker_pids = client.run(os.getpid)
+        on_dask = run_study(motorcycle_study, design, scheduler=client, progress=False,
+                            block_size=16)
+    assert len(worker_pids) == 2 and os.getpid() not in worker_pids.values()
+    assert on_dask.where.startswith("tcp://")
+    assert set(on_dask.outputs) == set(in_process.outputs) >= {"weave", "wobble"}
+    for name, values in in_process.outputs.items():
+        np.testing.assert_array_equal(on_dask.outputs[name], values)
+
+
 def test_blocks_cover_the_design_once():
     assert design_blocks(10, 4) == [(0, 4), (4, 8), (8, 10)]
     with pytest.raises(ModelError, match="block size"):
