@@ -13,12 +13,19 @@ import pytest
 
 from motoflex_ros.record.mcap_bag import BagWriter
 from motoflex_ros.record.rerun_motorcycle import MODE_CYCLES, MODE_FRAMES_PER_CYCLE
-from motoflex_ros.record.rerun_readback import entity_rows, scalar_values, verify_text
+from motoflex_ros.record.rerun_readback import (
+    component_rows,
+    entity_rows,
+    scalar_values,
+    verify_text,
+)
 from motoflex_ros.structures import load_component
 
 N_LOAD = 120
 N_BODY = 50
-N_SPEEDS = 18          # 40..210 km/h in steps of 10
+N_SPEEDS = 18          # eig.json: 40..210 km/h in steps of 10
+BAG_SPEED_STEP_KMH = 5.0
+N_BAG_SPEEDS = 35      # /vehicle/eigenvalues: 40..210 km/h in steps of 5
 MODE_FRAMES = MODE_FRAMES_PER_CYCLE * MODE_CYCLES
 RATE_HZ = 100.0
 
@@ -86,7 +93,49 @@ def _identification(writer, ts, reduced):
     return values
 
 
-def _vehicle(writer, ts):
+def lumped_motorcycle(static):
+    """The touring motorcycle with the frame's identified static joint (the core's model the
+    vehicle_simulator builds from these results)."""
+    from motoflex_ros.config import resolve_config
+    from motoflex_ros.vehicle.model import load_vehicle
+    from motoflex_ros.vehicle.variants import build_variant
+    rigid = load_vehicle(resolve_config("vehicles", "touring"))
+    return build_variant(rigid, "static", ["frame"], {"frame": {"static": static}},
+                         {"frame": load_component("frame")})
+
+
+def lumped_sweep(static):
+    """Speeds [m/s] and the core's modal sweep of :func:`lumped_motorcycle`."""
+    from motoflex_ros.vehicle.linearize import linearize
+    from motoflex_ros.vehicle.modes import modal_sweep
+    speeds = np.arange(40.0, 210.0 + 1e-9, BAG_SPEED_STEP_KMH) / 3.6
+    return speeds, modal_sweep(linearize(lumped_motorcycle(static)), speeds)
+
+
+def _write_ros(writer, topic, type_name, t_ns, msg):
+    """A message as the nodes publish it (rclpy's CDR)."""
+    from rclpy.serialization import serialize_message
+    writer.add_topic(topic, type_name)
+    writer.write(topic, t_ns, bytes(serialize_message(msg)))
+
+
+def _vehicle_outputs(writer, static, eigenvalues):
+    """The vehicle_simulator's latched outputs, encoded by the node's own conversions: joint
+    axes of the lumped motorcycle and (``eigenvalues``) its eigenvalues over speed."""
+    from diagnostic_msgs.msg import DiagnosticArray
+
+    from motoflex_ros.nodes.conversions import axis_marker, mode_statuses
+    revolute = [j for j in lumped_motorcycle(static).joints if j.kind == "revolute"]
+    for k, joint in enumerate(revolute):
+        _write_ros(writer, "/vehicle/joint_axes", "visualization_msgs/msg/Marker", 10**9,
+                   axis_marker(k, "vehicle", joint.name, joint.point, joint.axis))
+    if eigenvalues:
+        speeds, sweep = lumped_sweep(static)
+        _write_ros(writer, "/vehicle/eigenvalues", "diagnostic_msgs/msg/DiagnosticArray",
+                   10**9, DiagnosticArray(status=mode_statuses(speeds, sweep.modes)))
+
+
+def _road_test(writer, ts):
     m = ts.types
     for i in range(N_BODY):
         t_ns = int((2.0 + i / RATE_HZ) * 1e9)
@@ -98,19 +147,6 @@ def _vehicle(writer, ts):
         poses = [_pose(ts, [30.0 * i / RATE_HZ + dx, 0.0, 0.5]) for dx in (0.0, 0.7, 1.4)]
         _write(writer, ts, "/vehicle/bodies", "geometry_msgs/msg/PoseArray", t_ns,
                m["geometry_msgs/msg/PoseArray"](header=_header(ts, t_ns), poses=poses))
-    point = m["geometry_msgs/msg/Point"]
-    marker = m["visualization_msgs/msg/Marker"](
-        header=_header(ts, 10**9), ns="frame_static", id=0, type=0, action=0,
-        pose=_pose(ts, [0, 0, 0]), scale=_vector(ts, [0.01, 0.02, 0.0]),
-        color=m["std_msgs/msg/ColorRGBA"](r=0.0, g=0.5, b=1.0, a=1.0),
-        lifetime=m["builtin_interfaces/msg/Duration"](sec=0, nanosec=0), frame_locked=False,
-        points=[point(x=0.6, y=0.0, z=0.3), point(x=1.2, y=0.0, z=0.8)], colors=[],
-        texture_resource="", texture=m["sensor_msgs/msg/CompressedImage"](
-            header=_header(ts, 0), format="", data=np.zeros(0, np.uint8)),
-        uv_coordinates=[], text="", mesh_resource="",
-        mesh_file=m["visualization_msgs/msg/MeshFile"](filename="", data=np.zeros(0, np.uint8)),
-        mesh_use_embedded_materials=False)
-    _write(writer, ts, "/vehicle/joint_axes", "visualization_msgs/msg/Marker", 10**9, marker)
 
 
 def _identification_file(path, reduced, static):
@@ -124,18 +160,21 @@ def _identification_file(path, reduced, static):
     (path / "identification.json").write_text(json.dumps({"frame": result}))
 
 
-def make_bag(path, with_results=False):
+def make_bag(path, with_results=False, eigenvalues=True):
     """A small run bag with the rig's topics; returns the identified static values it holds.
 
-    ``with_results`` adds the run folder's result files: identification.json and eig.json
-    (from ``motoflex eig`` on the shipped touring motorcycle).
+    The vehicle_simulator's joint axes and (``eigenvalues``) /vehicle/eigenvalues are those of
+    the lumped motorcycle of these values. ``with_results`` adds the run folder's result
+    files: identification.json and eig.json (from ``motoflex eig`` on the rigid touring
+    motorcycle, as the report writes it).
     """
     ts = _ts()
     reduced = load_component("frame").clamped_reduced()
     with BagWriter(path) as writer:
         _bench(writer, ts, reduced)
         values = _identification(writer, ts, reduced)
-        _vehicle(writer, ts)
+        _road_test(writer, ts)
+        _vehicle_outputs(writer, values, eigenvalues)
     if with_results:
         _identification_file(path, reduced, values)
         eig = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "eig", "--vehicle",
@@ -182,9 +221,9 @@ def test_rerun_bag_roundtrip_entity_counts(converted):
         "/vehicle/road_test/joints/roll": N_BODY,
         "/vehicle/road_test/body0": N_BODY,
         "/vehicle/road_test/body2": N_BODY,
-        "/vehicle/eigenvalues/weave/real_part": N_SPEEDS,
-        "/vehicle/eigenvalues/wobble/frequency_hz": N_SPEEDS,
-        "/vehicle/eigenvalues/all/real_part": N_SPEEDS,
+        "/vehicle/eigenvalues/weave/real_part": N_BAG_SPEEDS,
+        "/vehicle/eigenvalues/wobble/frequency_hz": N_BAG_SPEEDS,
+        "/vehicle/eigenvalues/capsize/real_part": N_BAG_SPEEDS,
         "/identification/frame/decomposition/k_t": 1,
         "/vehicle/modes/weave/frame": MODE_FRAMES,
         "/vehicle/modes/weave/front_wheel": MODE_FRAMES,
@@ -193,22 +232,68 @@ def test_rerun_bag_roundtrip_entity_counts(converted):
     for path, count in expected.items():
         assert rows.get(path, 0) == count, (path, rows.get(path))
     assert "/vehicle/road_test/frame" not in rows     # the bag's road test, not the model's
+    assert "/vehicle/eigenvalues/all/real_part" not in rows   # the bag's, not eig.json's
     static = entity_rows(bag / "run1.rrd", static=True)
     for path in ("/bench/frame", "/bench/frame/structure/undeformed",
                  "/bench/frame/structure/clamps", "/bench/frame/structure/load_point",
                  "/bench/frame/structure/exaggeration", "/bench/frame/axes/static",
                  "/bench/frame/axes/static/joint", "/bench/frame/axes/torsion",
                  "/bench/frame/axes/bending", "/bench/frame/axes/sweep",
-                 "/vehicle/joint_axes/frame_static_0"):
+                 "/vehicle/joint_axes/frame_static/2", "/vehicle/eigenvalues/model"):
         assert static.get(path, 0) >= 1, path
 
 
 def test_rerun_bag_eigenvalues_roundtrip(converted):
-    bag, _, _ = converted
+    """The series are the bag's /vehicle/eigenvalues: the core's sweep of the lumped model."""
+    bag, values, _ = converted
+    speeds, sweep = lumped_sweep(values)
+    rrd = bag / "run1.rrd"
+    for mode in ("weave", "wobble", "capsize"):
+        want = sweep.modes[mode]
+        real = scalar_values(rrd, f"/vehicle/eigenvalues/{mode}/real_part")
+        freq = scalar_values(rrd, f"/vehicle/eigenvalues/{mode}/frequency_hz")
+        assert len(real) == len(freq) == len(speeds) == N_BAG_SPEEDS
+        np.testing.assert_allclose(real, want.real, rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(freq, want.imag / (2 * np.pi), rtol=1e-12, atol=1e-12)
+    assert len(json.loads((bag / "eig.json").read_text())["speeds_mps"]) == N_SPEEDS
+    (label,) = component_rows(rrd, "/vehicle/eigenvalues/model", "TextDocument:text")
+    assert "/vehicle/eigenvalues" in label[1][0] and "lumped" in label[1][0]
+
+
+def test_rerun_bag_without_eigenvalue_topic_uses_eig_json_roundtrip(converted, tmp_path):
+    """A bag without /vehicle/eigenvalues: the series come from eig.json, labelled so."""
+    from motoflex_ros.record.rerun_bag import convert_bag
+    bag = tmp_path / "run2"
+    make_bag(bag, eigenvalues=False)
+    (bag / "eig.json").write_text((converted[0] / "eig.json").read_text())
+    rrd, _ = convert_bag(bag, vehicle=None)
     eig = json.loads((bag / "eig.json").read_text())
-    got = scalar_values(bag / "run1.rrd", "/vehicle/eigenvalues/weave/real_part")
+    got = scalar_values(rrd, "/vehicle/eigenvalues/weave/real_part")
     want = [np.nan if z is None else z[0] for z in eig["modes"]["weave"]]
     np.testing.assert_array_equal(got, want)
+    assert entity_rows(rrd)["/vehicle/eigenvalues/all/real_part"] == N_SPEEDS
+    (label,) = component_rows(rrd, "/vehicle/eigenvalues/model", "TextDocument:text")
+    assert "eig.json" in label[1][0] and "rigid" in label[1][0]
+
+
+def test_rerun_bag_joint_axes_roundtrip(converted):
+    """Each revolute joint of the lumped motorcycle once, at its joint point along its axis."""
+    bag, values, _ = converted
+    rrd = bag / "run1.rrd"
+    revolute = [j for j in lumped_motorcycle(values).joints if j.kind == "revolute"]
+    drawn = sorted(p for p in entity_rows(rrd, static=True)
+                   if p.startswith("/vehicle/joint_axes/") and not p.endswith("/joint"))
+    assert drawn == sorted(f"/vehicle/joint_axes/{j.name}/{k}" for k, j in enumerate(revolute))
+    for k, joint in enumerate(revolute):
+        path = f"/vehicle/joint_axes/{joint.name}/{k}"
+        (_, strips), = component_rows(rrd, path, "LineStrips3D:strips")
+        (_, points), = component_rows(rrd, f"{path}/joint", "Points3D:positions")
+        start, end = np.array(strips[0], float)
+        axis = np.asarray(joint.axis, float) / np.linalg.norm(joint.axis)
+        # rerun stores positions as float32
+        np.testing.assert_allclose(points[0], joint.point, atol=1e-6)
+        np.testing.assert_allclose((start + end) / 2, joint.point, atol=1e-6)
+        np.testing.assert_allclose((end - start) / np.linalg.norm(end - start), axis, atol=1e-6)
 
 
 def test_rerun_bag_identified_values_roundtrip(converted):

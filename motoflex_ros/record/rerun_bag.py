@@ -4,20 +4,25 @@ Reads the bag with :mod:`motoflex_ros.record.mcap_bag` and decodes the CDR messa
 rosbags type store (no rclpy needed), then logs with :mod:`.rerun_log` and
 :mod:`.rerun_vehicle`. Topics (issue 8):
 
-- /bench/<c>/load (geometry_msgs/WrenchStamped): load arrow and force series; with the
-  shipped component model <c> also the beam model deformed by the quasi-static expansion of the
-  recorded load, x = K^-1 f(t) on the clamped reduced model (exact for the quasi-static test,
-  the static part of the shape for harmonic tests; the recording says so).
+- /bench/<c>/load (geometry_msgs/WrenchStamped) with /bench/<c>/phase (std_msgs/String): load
+  arrow and force series; with the shipped component model <c> also the beam model deformed by
+  the time response of the clamped reduced model to the recorded load history, the component
+  simulator's own (:mod:`.rerun_bench_replay`).
 - /bench/<c>/pose (geometry_msgs/PoseStamped): loaded-end displacement series.
 - /bench/<c>/markers/true and /measured (geometry_msgs/PoseArray): marker points over time.
 - /identification/results (diagnostic_msgs/DiagnosticArray, one status per component and
   test, KeyValue values): scalars, and the static/torsion/bending axes from l and beta.
+- /vehicle/eigenvalues (diagnostic_msgs/DiagnosticArray, one status 'vehicle/<mode>' per
+  tracked mode with JSON lists speeds_kmh, real [1/s], frequency_hz): eigenvalues against
+  speed of the lumped motorcycle the vehicle_simulator built from the run's identified values.
 - /vehicle/joint_states (sensor_msgs/JointState), /vehicle/bodies (geometry_msgs/PoseArray),
-  visualization_msgs/Marker joint axes: the road test and the identified axes.
+  visualization_msgs/Marker joint axes (an arrow from the joint point along the axis): the road
+  test and the identified axes, one entity /vehicle/joint_axes/<ns>/<id> per marker.
 
 Result files of the run folder are logged too: identification.json (or identify.json: the
-static, torsion, bending and sweep axes, k_t and k_b) and eig.json (eigenvalues against speed,
-weave and wobble).
+static, torsion, bending and sweep axes, k_t and k_b) and, only when the bag has no
+/vehicle/eigenvalues, eig.json (eigenvalues against speed of ``motoflex eig``, which the report
+runs on the rigid motorcycle). /vehicle/eigenvalues/model states which one was logged.
 
 Times are the header stamps (the rig's simulated time; the bag's log times are the recorder's
 wall clock); ``sim_time`` is measured from the earliest stamp, which is 0 for a simulated run.
@@ -35,13 +40,21 @@ from tqdm import tqdm
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.record import rerun_log as rl
-from motoflex_ros.record import rerun_vehicle as rv
 from motoflex_ros.record.mcap_bag import bag_info, read_messages
+from motoflex_ros.record.rerun_bag_vehicle import (
+    EIG_TOPIC,
+    log_eig_file,
+    log_vehicle_model,
+    log_vehicle_topics,
+    times_s,
+    vec,
+)
+from motoflex_ros.record.rerun_bench_replay import recorded_samples, replayed_displacements
 from motoflex_ros.record.rerun_blueprint import default_blueprint
 
 __all__ = ["convert_bag", "rrd_path_of", "BENCH_TOPIC", "decode"]
 
-BENCH_TOPIC = re.compile(r"^/bench/(?P<component>[^/]+)/(?P<what>load|pose|markers/true|"
+BENCH_TOPIC = re.compile(r"^/bench/(?P<component>[^/]+)/(?P<what>load|phase|pose|markers/true|"
                          r"markers/measured)$")
 MAX_MARKER_FRAMES = 400
 BENCH_SPACING_M = 1.0     # lateral spacing of the components on the bench [m]
@@ -73,29 +86,21 @@ def _stamp_ns(msg):
 
 
 def _collect(bag_dir):
-    """Stamped messages grouped by topic: {topic: [(t_ns, msg), ...]} in recording order.
+    """Messages grouped by topic: {topic: [(t_ns, msg), ...]} in recording order.
 
-    Messages without a header (/clock, phase strings) carry no simulated time and are left out.
+    Messages without a header carry no simulated time: the bench's phase labels are kept with
+    t_ns None (they pair with the loads by order), others (/clock) are left out undecoded.
     """
     grouped = defaultdict(list)
     for message in read_messages(bag_dir):
+        unstamped = message.type == "std_msgs/msg/String" and message.topic.endswith("/phase")
+        if message.type == "rosgraph_msgs/msg/Clock":
+            continue
         msg = decode(message)
         stamp = _stamp_ns(msg)
-        if stamp is not None:
+        if stamp is not None or unstamped:
             grouped[message.topic].append((stamp, msg))
     return grouped
-
-
-def _times(samples, t0_ns):
-    return np.array([(t - t0_ns) * 1e-9 for t, _ in samples])
-
-
-def _vec(v):
-    return [v.x, v.y, v.z]
-
-
-def _quat(q):
-    return [q.x, q.y, q.z, q.w]
 
 
 @functools.cache
@@ -109,45 +114,47 @@ def _model(component):
         return None
 
 
-def _static_shapes(reduced, forces):
-    """Quasi-static node translations (n_t, n_nodes, 3) [m] under end forces (n_t, 3) [N]."""
-    unit = np.column_stack([np.linalg.solve(reduced.K, reduced.end_load_vector(np.eye(6)[i]))
-                            for i in range(3)])
-    reduced_coords = np.asarray(forces, float) @ unit.T
-    return np.stack([reduced.node_displacements(x)[:, :3] for x in reduced_coords])
-
-
-def _log_bench_load(rec, component, samples, pose_samples, t0, model, bench_offset):
-    times = _times(samples, t0)
-    forces = np.array([_vec(m.wrench.force) for _, m in samples])
+def _log_bench_load(rec, component, topics, t0, model, bench_offset):
+    samples, pose_samples = topics["load"], topics.get("pose")
+    times = times_s(samples, t0)
+    forces = np.array([vec(m.wrench.force) for _, m in samples])
     q0 = model[0].q0 if model else None
     if pose_samples:
-        positions = np.array([_vec(m.pose.position) for _, m in pose_samples])
+        positions = np.array([vec(m.pose.position) for _, m in pose_samples])
         ref = q0 if q0 is not None else positions[0]
-        pose_times, displacement = _times(pose_samples, t0), positions - ref
+        pose_times, displacement = times_s(pose_samples, t0), positions - ref
     else:
         pose_times, displacement = times, np.full((len(times), 3), np.nan)
     load_xyz = q0 if q0 is not None else np.zeros(3)
     rl.log_load(rec, component, times, forces, load_xyz, displacement, pose_times)
     if model:
-        comp, reduced = model
-        rl.log_component_frame(rec, component, comp.origin, bench_offset)
-        picks = rl.subsample_indices(len(times))
-        shapes = _static_shapes(reduced, forces[picks])
-        factor = rl.exaggeration_factor(comp.node_xyz, shapes)
-        rl.log_structure(rec, component, comp.node_xyz, comp.elements, times[picks], shapes,
-                         factor, comp.clamp_xyz, comp.q0)
-        rec.log(f"/bench/{component}/structure/exaggeration", rr.TextDocument(
-            f"Deformed shape of {component}: quasi-static expansion x = K^-1 f(t) of the "
-            f"recorded load on the clamped reduced model, exaggerated x{factor:g}."),
-            static=True)
+        rl.log_component_frame(rec, component, model[0].origin, bench_offset)
+        phases = [m.data for _, m in topics.get("phase", [])]
+        _log_replayed_structure(rec, component, model, times, recorded_samples(
+            phases, [(t, f[1]) for (t, _), f in zip(samples, forces)]))
+
+
+def _log_replayed_structure(rec, component, model, times, loads):
+    """The beam deformed by the clamped reduced model's time response to the recorded loads."""
+    comp, reduced = model
+    picks = rl.subsample_indices(len(times))
+    shapes = replayed_displacements(reduced, loads.samples, picks)
+    factor = rl.exaggeration_factor(comp.node_xyz, shapes)
+    source = ("the test phases and loads recorded on /bench/{c}/phase and /bench/{c}/load "
+              "(each test from rest, a decay test from equilibrium under its preload)"
+              if loads.labelled else "the loads recorded on /bench/{c}/load (no phase labels: "
+              "one test from rest, first-order hold between the stamps)").format(c=component)
+    rl.log_structure(rec, component, comp.node_xyz, comp.elements, times[picks], shapes,
+                     factor, comp.clamp_xyz, comp.q0, source=(
+                         "time response of the clamped reduced model (the component "
+                         f"simulator's exact discretisation) to {source}"))
 
 
 def _log_markers(rec, component, kind, samples, t0):
-    times = _times(samples, t0)
+    times = times_s(samples, t0)
     for i in rl.subsample_indices(len(times), MAX_MARKER_FRAMES):
         rec.set_time(rl.TIMELINE, duration=float(times[i]))
-        points = [_vec(p.position) for p in samples[i][1].poses]
+        points = [vec(p.position) for p in samples[i][1].poses]
         color = (40, 200, 40) if kind == "true" else (200, 40, 200)
         rec.log(f"/bench/{component}/markers/{kind}", rr.Points3D(points, colors=color,
                                                                   radii=0.006))
@@ -179,31 +186,6 @@ def _log_identification(rec, samples, t0, known, draw_axes):
                 rl.log_axis(rec, component, test, values["l"], values["beta"], model[0].q0)
 
 
-def _log_vehicle(rec, grouped, t0):
-    joints = grouped.get("/vehicle/joint_states", [])
-    if joints:
-        names = list(joints[0][1].name)
-        rv.log_joint_series(rec, names, _times(joints, t0),
-                            [list(m.position) for _, m in joints])
-    bodies = grouped.get("/vehicle/bodies", [])
-    if bodies:
-        count = len(bodies[0][1].poses)
-        names = [f"body{i}" for i in range(count)]
-        rv.log_body_shapes(rec, "/vehicle/road_test",
-                           [rv.BodyShape(n, "box", (0.15, 0.1, 0.1)) for n in names])
-        rv.log_body_poses(rec, "/vehicle/road_test", names, _times(bodies, t0),
-                          [[_vec(p.position) for p in m.poses] for _, m in bodies],
-                          [[_quat(p.orientation) for p in m.poses] for _, m in bodies])
-
-
-def _log_markers_msgs(rec, samples):
-    for _, marker in samples:
-        if len(marker.points) >= 2:
-            a, b = np.array(_vec(marker.points[0])), np.array(_vec(marker.points[1]))
-            name = f"{marker.ns or 'axis'}_{marker.id}"
-            rv.log_joint_axis(rec, name, (a + b) / 2, b - a, np.linalg.norm(b - a) / 2)
-
-
 def _read_json(folder, *names):
     for name in names:
         if (folder / name).is_file():
@@ -233,43 +215,18 @@ def _log_identified_axes(rec, identify, sim_time_s, log_values):
         rl.log_identification(rec, component, "decomposition", split, sim_time_s)
 
 
-def _pairs(values):
-    return np.array([complex(*z) if z is not None else complex(np.nan, np.nan) for z in values])
-
-
-def _log_eig(rec, eig):
-    rv.log_eigenvalues(rec, eig["speeds_mps"], _padded(eig["eigenvalues"]),
-                       {m: _pairs(v) for m, v in eig.get("modes", {}).items()})
-
-
-def _padded(eigenvalues):
-    """(n_speeds, n_max) complex, NaN-padded (the count may differ between speeds)."""
-    width = max(len(e) for e in eigenvalues)
-    out = np.full((len(eigenvalues), width), np.nan, complex)
-    for i, row in enumerate(eigenvalues):
-        out[i, :len(row)] = [complex(re, im) for re, im in row]
-    return out
-
-
-def _log_run_files(rec, folder, identify, end_time_s, log_values):
-    """The run folder's result files: identification (axes, sweep) and eig.json."""
+def _log_run_files(rec, folder, identify, end_time_s, log_values, with_eig):
+    """The run folder's result files: identification (axes, sweep) and (``with_eig``)
+    eig.json."""
     done = []
     if identify:
         _log_identified_axes(rec, identify, end_time_s, log_values)
         done.append("identification")
-    eig = _read_json(folder, "eig.json")
+    eig = _read_json(folder, "eig.json") if with_eig else None
     if eig:
-        _log_eig(rec, eig)
+        log_eig_file(rec, eig)
         done.append("eig")
     return done
-
-
-def _log_vehicle_model(rec, vehicle, identify, road_test):
-    from motoflex_ros.record.rerun_motorcycle import log_motorcycle, vehicle_model
-    model, description = vehicle_model(vehicle, identify)
-    log_motorcycle(rec, model, road_test=road_test)
-    rec.log("/vehicle/model", rr.TextDocument(f"Motorcycle: {description}."), static=True)
-    return [f"vehicle model: {description}"]
 
 
 def _bench_topics(grouped):
@@ -286,22 +243,13 @@ def _log_bench_topics(rec, bench, t0):
     converted = []
     for k, (component, topics) in enumerate(sorted(bench.items())):
         if "load" in topics:
-            _log_bench_load(rec, component, topics["load"], topics.get("pose"), t0,
-                            _model(component), (0.0, BENCH_SPACING_M * k, 0.0))
+            _log_bench_load(rec, component, topics, t0, _model(component),
+                            (0.0, BENCH_SPACING_M * k, 0.0))
         for kind in ("true", "measured"):
             if f"markers/{kind}" in topics:
                 _log_markers(rec, component, kind, topics[f"markers/{kind}"], t0)
         converted += [f"/bench/{component}/{what}" for what in topics]
     return converted
-
-
-def _log_vehicle_topics(rec, grouped, info, t0):
-    _log_vehicle(rec, grouped, t0)
-    marker_topics = [t.name for t in info.topics if t.type == "visualization_msgs/msg/Marker"]
-    for topic in marker_topics:
-        _log_markers_msgs(rec, grouped[topic])
-    return [t for t in ("/vehicle/joint_states", "/vehicle/bodies") if t in grouped] + \
-        marker_topics
 
 
 def convert_bag(bag_dir, rrd_path=None, vehicle="touring", progress=False):
@@ -317,7 +265,8 @@ def convert_bag(bag_dir, rrd_path=None, vehicle="touring", progress=False):
     bar = tqdm(total=5, desc="rerun", unit="step", disable=not progress, file=sys.stderr)
     bar.set_postfix_str(f"reading {info.message_count} messages")
     grouped = _collect(bag_dir)
-    t0 = min((t for samples in grouped.values() for t, _ in samples), default=0)
+    t0 = min((t for samples in grouped.values() for t, _ in samples if t is not None),
+             default=0)
     bench = _bench_topics(grouped)
     identify = _read_json(bag_dir, "identification.json", "identify.json")
     with bar:
@@ -338,13 +287,16 @@ def _log_all(rec, bar, grouped, bench, t0, info, identify, vehicle):
         _log_identification(rec, grouped["/identification/results"], t0, set(bench),
                             draw_axes=identify is None)
         converted.append("/identification/results")
-    converted += _log_vehicle_topics(rec, grouped, info, t0)
+    vehicle_topics, bag_axes = log_vehicle_topics(rec, grouped, info, t0)
+    converted += vehicle_topics
     converted += _log_run_files(rec, info.path, identify, info.duration_ns * 1e-9,
-                                log_values="/identification/results" not in grouped)
+                                log_values="/identification/results" not in grouped,
+                                with_eig=EIG_TOPIC not in vehicle_topics)
     _step(bar, "vehicle model")
     if vehicle:
-        converted += _log_vehicle_model(rec, vehicle, identify,
-                                        road_test="/vehicle/bodies" not in grouped)
+        converted += log_vehicle_model(rec, vehicle, identify,
+                                        road_test="/vehicle/bodies" not in grouped,
+                                        joint_axes=bag_axes == 0)
     return converted
 
 

@@ -120,8 +120,12 @@ def log_component_frame(rec, component, origin, bench_offset=(0.0, 0.0, 0.0)):
     rec.log(f"/bench/{component}", rr.Transform3D(translation=translation), static=True)
 
 
-def log_structure_model(rec, component, node_xyz, elements, clamp_xyz, load_xyz, factor):
-    """Static parts of /bench/<c>/structure: undeformed beams, clamps, load point, factor."""
+def log_structure_model(rec, component, node_xyz, elements, clamp_xyz, load_xyz, factor,
+                        source=None):
+    """Static parts of /bench/<c>/structure: undeformed beams, clamps, load point, factor.
+
+    ``source`` (text) says where the deformed shapes come from; it opens the stated factor.
+    """
     base = f"/bench/{component}/structure"
     rec.log(f"{base}/undeformed", rr.LineStrips3D(_segments(node_xyz, elements),
                                                   colors=UNDEFORMED_COLOR, radii=0.002),
@@ -130,14 +134,15 @@ def log_structure_model(rec, component, node_xyz, elements, clamp_xyz, load_xyz,
                                           radii=0.015), static=True)
     rec.log(f"{base}/load_point", rr.Points3D(np.atleast_2d(load_xyz), colors=LOAD_COLOR,
                                               radii=0.015), static=True)
+    origin = f"{source}, " if source else ""
     rec.log(f"{base}/exaggeration", rr.TextDocument(
-        f"Deformed shape of {component}: node displacements exaggerated x{factor:g} "
+        f"Deformed shape of {component}: {origin}node displacements exaggerated x{factor:g} "
         "(the arrows and time series are true size)."), static=True)
     rec.log(base, rr.AnyValues(exaggeration_factor=float(factor)), static=True)
 
 
 def log_structure(rec, component, node_xyz, elements, times, node_displacements, factor,
-                  clamp_xyz, load_xyz):
+                  clamp_xyz, load_xyz, source=None):
     """The beam model of a component, deformed over time (Sect. 4.2 bench tests).
 
     Parameters
@@ -158,6 +163,8 @@ def log_structure(rec, component, node_xyz, elements, times, node_displacements,
         Exaggeration of the displacements [-], stated in the recording.
     clamp_xyz, load_xyz : array (k, 3) and (3,)
         Clamp points and loaded end q0 [m].
+    source : str, optional
+        Where the shapes come from (stated with the factor in ``structure/exaggeration``).
 
     Returns
     -------
@@ -165,7 +172,8 @@ def log_structure(rec, component, node_xyz, elements, times, node_displacements,
         Number of shapes logged (at most :data:`MAX_SHAPE_FRAMES`).
 
     """
-    log_structure_model(rec, component, node_xyz, elements, clamp_xyz, load_xyz, factor)
+    log_structure_model(rec, component, node_xyz, elements, clamp_xyz, load_xyz, factor,
+                        source)
     node_xyz = np.asarray(node_xyz, float)
     displacements = np.asarray(node_displacements, float)
     picks = subsample_indices(len(times))

@@ -154,17 +154,19 @@ def _log_road_test(rec, lin, shapes, speed):
     return len(pulse.time)
 
 
-def log_motorcycle(rec, model, speed_mps=DEFAULT_SPEED_MPS, modes=None, road_test=True):
+def log_motorcycle(rec, model, speed_mps=DEFAULT_SPEED_MPS, modes=None, road_test=True,
+                   joint_axes=True):
     """Log the motorcycle ``model`` (a VehicleModel): joint axes, weave and wobble, road test.
 
     ``modes``: {name: eigenvalue at speed_mps}; by default weave and wobble from the engine's
-    own modal sweep. Returns the number of road-test samples (0 without ``road_test``).
+    own modal sweep. ``joint_axes`` False leaves the revolute joints' axes out (a bag's
+    markers draw them). Returns the number of road-test samples (0 without ``road_test``).
     """
     from motoflex_ros.vehicle.linearize import linearize
     from motoflex_ros.vehicle.modes import modal_sweep
     lin = linearize(model)
     shapes = _shapes(model, lin.system.tree)
-    for joint in model.joints:
+    for joint in model.joints if joint_axes else ():
         if joint.kind == "revolute":
             rv.log_joint_axis(rec, joint.name, joint.point, joint.axis)
     if modes is None:

@@ -10,7 +10,8 @@ from pathlib import Path
 
 from rerun.chunk import RrdReader
 
-__all__ = ["entity_rows", "scalar_values", "verify_text", "rerun_executable", "recordings"]
+__all__ = ["entity_rows", "scalar_values", "component_rows", "verify_text", "rerun_executable",
+           "recordings"]
 
 
 def recordings(rrd_path):
@@ -39,6 +40,29 @@ def scalar_values(rrd_path, entity_path):
             continue
         values += [row[0] for row in batch.column(index).to_pylist()]
     return values
+
+
+def component_rows(rrd_path, entity_path, column, timeline=None):
+    """Rows of one component column at ``entity_path``, e.g. 'LineStrips3D:strips'.
+
+    Returns [(time, value)] in file order: ``time`` the row's ``timeline`` value (integer
+    nanoseconds for a duration timeline, the sequence number otherwise), None for static rows
+    or without ``timeline``; ``value`` the row's component batch as plain lists.
+    """
+    rows = []
+    for chunk in RrdReader(Path(rrd_path)).stream().to_chunks():
+        if chunk.entity_path != entity_path:
+            continue
+        batch = chunk.to_record_batch()
+        index = batch.schema.get_field_index(column)
+        if index < 0:
+            continue
+        times = [None] * batch.num_rows
+        if timeline is not None and not chunk.is_static:
+            where = batch.schema.get_field_index(timeline)
+            times = batch.column(where).cast("int64").to_pylist()
+        rows += zip(times, batch.column(index).to_pylist())
+    return rows
 
 
 def rerun_executable():

@@ -134,17 +134,18 @@ def _speed_series(rec, path, kmh, values, name, points=False):
 def log_eigenvalues(rec, speeds_mps, eigenvalues, tracked):
     """Eigenvalues against speed: every eigenvalue with Im > 0 as points, tracked modes as lines.
 
-    ``eigenvalues`` (n_speeds, n) complex [1/s]; ``tracked`` maps a mode name (weave, wobble)
-    to its eigenvalue per speed (n_speeds,) complex (NaN where not found). Returns the number
-    of speeds.
+    ``eigenvalues`` (n_speeds, n) complex [1/s], or None when only the tracked modes are known
+    (no ``all`` series); ``tracked`` maps a mode name (weave, wobble) to its eigenvalue per
+    speed (n_speeds,) complex (NaN where not found). Returns the number of speeds.
     """
     kmh = speed_kmh_index(speeds_mps)
-    lam = np.asarray(eigenvalues, complex).reshape(len(kmh), -1)
-    oscillating = np.where(lam.imag > 1e-9, lam, np.nan)
-    _speed_series(rec, "/vehicle/eigenvalues/all/real_part", kmh, oscillating.real,
-                  "Re(lambda) [1/s]", points=True)
-    _speed_series(rec, "/vehicle/eigenvalues/all/frequency_hz", kmh,
-                  oscillating.imag / (2 * np.pi), "f [Hz]", points=True)
+    if eigenvalues is not None:
+        lam = np.asarray(eigenvalues, complex).reshape(len(kmh), -1)
+        oscillating = np.where(lam.imag > 1e-9, lam, np.nan)
+        _speed_series(rec, "/vehicle/eigenvalues/all/real_part", kmh, oscillating.real,
+                      "Re(lambda) [1/s]", points=True)
+        _speed_series(rec, "/vehicle/eigenvalues/all/frequency_hz", kmh,
+                      oscillating.imag / (2 * np.pi), "f [Hz]", points=True)
     for mode, values in tracked.items():
         values = np.asarray(values, complex)
         _speed_series(rec, f"/vehicle/eigenvalues/{mode}/real_part", kmh, values.real,

@@ -1,0 +1,187 @@
+"""The vehicle part of a recorded run in its rerun recording: road test, joint axes, eigenvalues.
+
+Used by :mod:`.rerun_bag`. Decodes (rosbags message objects):
+
+- /vehicle/joint_states (sensor_msgs/JointState), /vehicle/bodies (geometry_msgs/PoseArray):
+  the road test over ``sim_time``;
+- visualization_msgs/Marker joint axes: an ARROW from the joint point along the axis (as
+  :func:`motoflex_ros.nodes.conversions.axis_marker` draws it), one entity
+  /vehicle/joint_axes/<ns>/<id> per marker left after the recorded ADD/DELETE actions;
+- /vehicle/eigenvalues (diagnostic_msgs/DiagnosticArray of the vehicle_simulator node): the
+  tracked modes against speed, preferred over the run folder's eig.json (which the report
+  computes for the rigid motorcycle); /vehicle/eigenvalues/model says which was logged.
+"""
+import json
+
+import numpy as np
+import rerun as rr
+from scipy.spatial.transform import Rotation
+
+from motoflex_ros.record import rerun_vehicle as rv
+from motoflex_ros.units import kmh_to_ms
+
+__all__ = ["EIG_TOPIC", "MARKER_TYPE", "times_s", "vec", "quat", "marker_axis",
+           "bag_eigenvalues", "log_vehicle_topics", "log_eig_file", "log_vehicle_model"]
+
+EIG_TOPIC = "/vehicle/eigenvalues"
+MARKER_TYPE = "visualization_msgs/msg/Marker"
+ARROW, DELETE, DELETE_ALL = 0, 2, 3   # visualization_msgs/Marker type and actions
+
+
+def times_s(samples, t0_ns):
+    """Header stamps [ns] of (t_ns, msg) samples as seconds [s] from ``t0_ns``."""
+    return np.array([(t - t0_ns) * 1e-9 for t, _ in samples])
+
+
+def vec(v):
+    """[x, y, z] of a Vector3 or Point."""
+    return [v.x, v.y, v.z]
+
+
+def quat(q):
+    """[x, y, z, w] of a Quaternion."""
+    return [q.x, q.y, q.z, q.w]
+
+
+def _log_road_test(rec, grouped, t0):
+    """Joint coordinates and body poses of the bag's road test over ``sim_time``."""
+    joints = grouped.get("/vehicle/joint_states", [])
+    if joints:
+        names = list(joints[0][1].name)
+        rv.log_joint_series(rec, names, times_s(joints, t0),
+                            [list(m.position) for _, m in joints])
+    bodies = grouped.get("/vehicle/bodies", [])
+    if bodies:
+        count = len(bodies[0][1].poses)
+        names = [f"body{i}" for i in range(count)]
+        rv.log_body_shapes(rec, "/vehicle/road_test",
+                           [rv.BodyShape(n, "box", (0.15, 0.1, 0.1)) for n in names])
+        rv.log_body_poses(rec, "/vehicle/road_test", names, times_s(bodies, t0),
+                          [[vec(p.position) for p in m.poses] for _, m in bodies],
+                          [[quat(p.orientation) for p in m.poses] for _, m in bodies])
+
+
+def marker_axis(marker):
+    """(joint point [m], axis direction) of a joint-axis ARROW marker, or None.
+
+    With points, the arrow starts at the joint and points along the axis (as
+    :func:`motoflex_ros.nodes.conversions.axis_marker` draws it); without, it starts at the
+    pose's position along the pose's x axis (the Marker convention).
+    """
+    if marker.type != ARROW:
+        return None
+    if len(marker.points) >= 2:
+        start = np.array(vec(marker.points[0]))
+        direction = np.array(vec(marker.points[1])) - start
+    else:
+        start = np.array(vec(marker.pose.position))
+        direction = Rotation.from_quat(quat(marker.pose.orientation)).apply([1.0, 0.0, 0.0])
+    return (start, direction) if np.linalg.norm(direction) > 0 else None
+
+
+def _current_markers(samples):
+    """{(ns, id): marker} left after the recorded ADD, DELETE and DELETEALL actions."""
+    current = {}
+    for _, marker in samples:
+        if marker.action == DELETE_ALL:
+            current.clear()
+        elif marker.action == DELETE:
+            current.pop((marker.ns, marker.id), None)
+        else:
+            current[(marker.ns, marker.id)] = marker
+    return current
+
+
+def _log_markers_msgs(rec, samples):
+    """Joint axes of the bag's markers, one entity /vehicle/joint_axes/<ns>/<id> each."""
+    logged = 0
+    for (ns, marker_id), marker in sorted(_current_markers(samples).items()):
+        axis = marker_axis(marker)
+        if axis is not None:
+            rv.log_joint_axis(rec, f"{ns or 'axis'}/{marker_id}", *axis)
+            logged += 1
+    return logged
+
+
+def _pairs(values):
+    return np.array([complex(*z) if z is not None else complex(np.nan, np.nan) for z in values])
+
+
+def log_eig_file(rec, eig):
+    """Eigenvalues against speed of a ``motoflex eig --json`` result (eig.json), labelled."""
+    rv.log_eigenvalues(rec, eig["speeds_mps"], _padded(eig["eigenvalues"]),
+                       {m: _pairs(v) for m, v in eig.get("modes", {}).items()})
+    rec.log("/vehicle/eigenvalues/model", rr.TextDocument(
+        f"Eigenvalues against speed from eig.json (motoflex eig; the report runs it on the "
+        f"rigid motorcycle); the bag has no {EIG_TOPIC}."), static=True)
+
+
+def _padded(eigenvalues):
+    """(n_speeds, n_max) complex, NaN-padded (the count may differ between speeds)."""
+    width = max(len(e) for e in eigenvalues)
+    out = np.full((len(eigenvalues), width), np.nan, complex)
+    for i, row in enumerate(eigenvalues):
+        out[i, :len(row)] = [complex(re, im) for re, im in row]
+    return out
+
+
+def bag_eigenvalues(msg):
+    """Speeds [m/s] and {mode: eigenvalue per speed, complex [1/s]} of /vehicle/eigenvalues.
+
+    ``msg`` is the diagnostic_msgs/DiagnosticArray of the vehicle_simulator node
+    (:func:`motoflex_ros.nodes.conversions.mode_statuses`): one status 'vehicle/<mode>' with
+    JSON lists speeds_kmh, real [1/s] and frequency_hz [Hz] (null where the mode is not
+    found: NaN here); lambda = real + 2 pi i frequency_hz. ValueError when the modes' speeds
+    differ.
+    """
+    speeds_kmh, modes = None, {}
+    for status in msg.status:
+        values = {kv.key: json.loads(kv.value) for kv in status.values}
+        if not {"speeds_kmh", "real", "frequency_hz"} <= values.keys():
+            continue
+        if speeds_kmh is not None and values["speeds_kmh"] != speeds_kmh:
+            raise ValueError(f"{status.name}: speeds differ from the other modes'")
+        speeds_kmh = values["speeds_kmh"]
+        real, freq = (np.array(values[k], float) for k in ("real", "frequency_hz"))
+        modes[status.name.rsplit("/", 1)[-1]] = real + 2j * np.pi * freq
+    return kmh_to_ms(np.array(speeds_kmh or [], float)), modes
+
+
+def _log_bag_eigenvalues(rec, samples):
+    """The last /vehicle/eigenvalues message: tracked modes against speed, labelled."""
+    speeds, modes = bag_eigenvalues(samples[-1][1])
+    if not modes:
+        return False
+    text = (f"Eigenvalues against speed ({', '.join(modes)}) from the bag's {EIG_TOPIC}: the "
+            "lumped motorcycle the vehicle_simulator node built from this run's identified "
+            "stiffness.")
+    try:
+        rv.log_eigenvalues(rec, speeds, None, modes)
+    except ValueError as exc:       # speeds closer than the speed_kmh timeline resolves
+        text += f" Not plotted: {exc}."
+    rec.log("/vehicle/eigenvalues/model", rr.TextDocument(text), static=True)
+    return True
+
+
+def log_vehicle_topics(rec, grouped, info, t0):
+    """Road test, joint-axis markers and eigenvalues of the bag; returns (topics, axes drawn)."""
+    _log_road_test(rec, grouped, t0)
+    converted = [t for t in ("/vehicle/joint_states", "/vehicle/bodies") if t in grouped]
+    axes = 0
+    for topic in (t.name for t in info.topics if t.type == MARKER_TYPE):
+        axes += _log_markers_msgs(rec, grouped[topic])
+        converted.append(topic)
+    if EIG_TOPIC in grouped and _log_bag_eigenvalues(rec, grouped[EIG_TOPIC]):
+        converted.append(EIG_TOPIC)
+    return converted, axes
+
+
+def log_vehicle_model(rec, vehicle, identify, road_test, joint_axes):
+    """The motorcycle from the vehicle engine (:mod:`.rerun_motorcycle`): the lumped 'static'
+    variant of the identified components, else the rigid ``vehicle``; without the road test or
+    the joint axes when the bag has them."""
+    from motoflex_ros.record.rerun_motorcycle import log_motorcycle, vehicle_model
+    model, description = vehicle_model(vehicle, identify)
+    log_motorcycle(rec, model, road_test=road_test, joint_axes=joint_axes)
+    rec.log("/vehicle/model", rr.TextDocument(f"Motorcycle: {description}."), static=True)
+    return [f"vehicle model: {description}"]
