@@ -3,7 +3,9 @@
 References: static cantilever with shear, delta = F L^3/(3 E I) + F L/(G A_s), section rotation
 F L^2/(2 E I); twist T L/(G J); clamped-free Timoshenko beam frequency equation of Huang (1961),
 J. Appl. Mech. 28, 579-584 (as written in Han, Benaroya & Wei, J. Sound Vib. 225, 1999,
-eq. for the clamped-free beam); uniform shaft torsion f = (1/4L) sqrt(G J / (rho I_p)).
+eq. for the clamped-free beam); uniform shaft torsion f = (1/4L) sqrt(G J / (rho I_p)) and, for
+linear elements with consistent mass, the discrete dispersion of a uniform rod (e.g. Hughes,
+The Finite Element Method, 1987, sect. 9.2).
 """
 import numpy as np
 import pytest
@@ -126,3 +128,39 @@ def test_clamped_free_tube_frequencies_converge():
 
 def test_pitched_tube_same_frequencies_roundtrip():
     assert np.allclose(_clamped_frequencies(6, 35.0), _clamped_frequencies(6, 0.0), rtol=1e-9)
+
+
+def _first_torsion_hz(count):
+    """First clamped-free torsion frequency [Hz] of the tube mesh: the mode whose motion is
+    mostly twist about the tube axis (x)."""
+    comp = tube_component(LENGTH, DIAMETER, WALL, 0.0, STEEL, count)
+    comp.structure.clamp(comp.clamp_nodes[0])
+    asm = comp.structure.assemble()
+    w2, modes = sla.eigh(asm.K.toarray(), asm.M.toarray())
+    twist = np.zeros(asm.K.shape[0], bool)
+    for node in range(1, count + 1):
+        twist[asm.node_dofs(node)[3]] = True
+    share = np.sum(modes[twist] ** 2, axis=0) / np.sum(modes**2, axis=0)
+    return np.sqrt(w2[np.flatnonzero(share > 0.99)[0]]) / (2 * np.pi)
+
+
+def test_clamped_free_tube_torsion_converges():
+    """Twist is a linear element with consistent mass: its first clamped-free frequency is the
+    rod's discrete dispersion omega^2 = (6 c^2 / h^2) (1 - cos k h) / (2 + cos k h), k = pi / 2L,
+    c^2 = G J / (rho I_p), exactly at every mesh; it lies above the continuum's f = c / 4L and
+    converges to it at second order with refinement."""
+    sec = tube_section(DIAMETER, WALL)
+    speed = np.sqrt(STEEL.G * sec.J / (STEEL.rho * sec.Ip))
+    f_exact = speed / (4 * LENGTH)
+    counts = np.array([2, 4, 8, 16, 32])
+    freqs = np.array([_first_torsion_hz(n) for n in counts])
+    for n, f in zip(counts, freqs):
+        kh = np.pi / (2 * LENGTH) * LENGTH / n
+        w2 = 6 * speed**2 / (LENGTH / n) ** 2 * (1 - np.cos(kh)) / (2 + np.cos(kh))
+        assert f == pytest.approx(np.sqrt(w2) / (2 * np.pi), rel=1e-9), n
+    errors = freqs / f_exact - 1
+    assert np.all(errors > 0) and np.all(np.diff(errors) < 0)
+    rate = -np.polyfit(np.log(counts), np.log(errors), 1)[0]
+    assert 1.9 < rate < 2.1
+    # leading term of the dispersion: f_h / f = 1 + (k h)^2 / 24 (1.0e-4 at 32 elements)
+    assert errors[-1] == pytest.approx((np.pi / (2 * counts[-1])) ** 2 / 24, rel=0.01)
