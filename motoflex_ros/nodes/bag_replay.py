@@ -15,8 +15,6 @@ from motoflex_ros.nodes.params import Param, ParameterError
 from motoflex_ros.nodes.runtime import RigNode, message_class, publish_patiently, run_node
 from motoflex_ros.record.mcap_bag import bag_info, read_messages
 
-MATCH_TIMEOUT_S = 5.0  # longest wait for the publishers' side of discovery [s]
-
 __all__ = ["BagReplay", "main"]
 
 
@@ -44,20 +42,20 @@ class BagReplay(RigNode):
         self.pubs = {t.name: self.advertise(message_class(t.type), t.name)
                      for t in self.info.topics if not t.name.startswith(skip)}
         self.messages = (m for m in read_messages(p["bag"], topics=list(self.pubs)))
-        self.ready = ReadyWatch(self, set(p["wait_for"]) | set(p["ack_from"]))
+        self.ready = ReadyWatch(self, set(p["wait_for"]) | set(p["ack_from"]),
+                                self.pubs.values())
         self.gate = AckGate(self, p["ack_from"], seconds_to_ns(p["window"]),
                             p["stall_timeout"])
         self.pending = None
         self.last_clock_ns = -1
         self.started = None
-        self._match_since = None
         self.published = 0
 
     def step(self, spinner):
         """Wait for the graph, then publish while the gate and the rate allow."""
         if self.started is None:
             spinner.spin_once(0.05)
-            if self.ready.ready() and self._outputs_matched():
+            if self.ready.ready():
                 self.started = time.monotonic()
                 self.gate.touch()
             return
@@ -69,20 +67,6 @@ class BagReplay(RigNode):
             return
         if spinner.spin_once(0.5) == 0:
             self.gate.check_stall()
-
-    def _outputs_matched(self):
-        """True when every publisher is matched with each subscriber the ROS graph knows on its
-        topic, or after MATCH_TIMEOUT_S. A listener announces itself ready once it sees our
-        publishers; our side of that match may come a moment later, and a reliable, volatile
-        publisher drops what it publishes before (the first messages of a replay)."""
-        if self._match_since is None:
-            self._match_since = time.monotonic()
-        if time.monotonic() - self._match_since > MATCH_TIMEOUT_S:
-            self.get_logger().warning(f"publishers not matched with every subscriber after "
-                                      f"{MATCH_TIMEOUT_S:g} s; replaying anyway")
-            return True
-        return all(pub.get_subscription_count() >= self.count_subscribers(topic)
-                   for topic, pub in self.pubs.items())
 
     def _publish_allowed(self):
         """Publish messages until one must wait; True if the rate asks for a sleep."""

@@ -56,7 +56,9 @@ class LoadActuatorNode(RigNode):
         self.clock_pub = self.advertise(Clock, "/clock")
         self.load_pubs = {c: self.advertise(WrenchStamped, topic(c, "load")) for c in self.setups}
         self.phase_pubs = {c: self.advertise(String, topic(c, "phase")) for c in self.setups}
-        self.ready = ReadyWatch(self, set(p["wait_for"]) | {p["ack_from"]})
+        self.ready = ReadyWatch(self, set(p["wait_for"]) | {p["ack_from"]},
+                                [self.clock_pub, *self.load_pubs.values(),
+                                 *self.phase_pubs.values()])
         self.subscribe(KeyValue, ACK_TOPIC, self._on_ack)
         self.pending = {c: deque() for c in self.setups}  # ns awaiting their ack
         self.blocked = dict.fromkeys(self.setups, False)  # waiting for a steady sample's ack

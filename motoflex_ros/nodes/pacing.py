@@ -17,7 +17,9 @@ from std_msgs.msg import String
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.runtime import ACK_TOPIC, READY_TOPIC, latched_qos
 
-__all__ = ["AckGate", "ReadyWatch", "StallError"]
+__all__ = ["AckGate", "ReadyWatch", "StallError", "MATCH_TIMEOUT_S"]
+
+MATCH_TIMEOUT_S = 5.0  # longest wait for the publishers' side of discovery [s]
 
 
 class StallError(MotoflexError):
@@ -25,19 +27,42 @@ class StallError(MotoflexError):
 
 
 class ReadyWatch:
-    """Collects the names announced on /rig/ready; ``ready()`` when all ``names`` are in."""
+    """Collects the names announced on /rig/ready; ``ready()`` when all ``names`` are in and
+    each of ``publishers`` is matched with every subscriber the ROS graph knows on its topic.
 
-    def __init__(self, node, names):
+    A node announces itself once its subscriptions see their publishers; the publishers' side
+    of the same match may come a moment later, and a reliable, volatile publisher drops what it
+    sends before (the first messages of a run). After MATCH_TIMEOUT_S the match is not waited
+    for any longer (a warning says so).
+    """
+
+    def __init__(self, node, names, publishers=()):
+        self.node = node
         self.names = frozenset(names)
+        self.publishers = tuple(publishers)
         self.seen = set()
+        self._announced_at = None
         node.subscribe(String, READY_TOPIC, self._on_ready, qos=latched_qos())
 
     def _on_ready(self, msg):
         self.seen.add(msg.data)
 
     def ready(self):
-        """True when every expected node has announced itself."""
-        return self.names <= self.seen
+        """True when every expected node has announced itself and our publishers are matched."""
+        if not self.names <= self.seen:
+            return False
+        if self._announced_at is None:
+            self._announced_at = time.monotonic()
+        if all(pub.get_subscription_count() >= self.node.count_subscribers(pub.topic_name)
+               for pub in self.publishers):
+            return True
+        if time.monotonic() - self._announced_at > MATCH_TIMEOUT_S:
+            self.node.get_logger().warning(
+                f"publishers not matched with every subscriber after {MATCH_TIMEOUT_S:g} s; "
+                f"going on")
+            self.publishers = ()
+            return True
+        return False
 
     def missing(self):
         """Expected nodes not yet ready, sorted."""
