@@ -126,3 +126,25 @@ def test_rerun_structure_is_not_quasi_static_at_resonance(replayed):
         worst = max(worst, np.linalg.norm(static - truth[t]) / np.abs(truth[t]).max())
         np.testing.assert_allclose(drawn[t], q0 + factor * truth[t], rtol=0, atol=FLOAT32_M)
     assert worst > 1.0      # resonant motion ~ 1/(2 zeta) = 50 times the static one
+
+
+def test_replay_without_phase_labels_matches_lsim():
+    """No phase labels: one test from rest, linear load between stamps; scipy's lsim (its own
+    discretisation of the same state space, linear input interpolation) gives the same."""
+    from scipy.signal import lsim
+
+    from motoflex_ros.record.rerun_bench_replay import recorded_samples, replayed_displacements
+    from motoflex_ros.structures.clamped import state_space
+    component = load_component("frame")
+    reduced = component.clamped_reduced()
+    times = np.arange(200) * 2e-3                       # 500 Hz, 0.4 s
+    force = 100.0 * np.sin(2 * np.pi * 60.0 * times) * np.minimum(times / 0.1, 1.0)
+    replay = recorded_samples([], [(int(round(t * 1e9)), f) for t, f in zip(times, force)])
+    assert not replay.labelled
+    end = int(np.argmin(np.linalg.norm(np.asarray(component.node_xyz) - reduced.q0, axis=1)))
+    got = replayed_displacements(reduced, replay.samples, np.arange(len(times)))[:, end]
+    a, b = state_space(reduced)
+    c = np.zeros((3, a.shape[0]))
+    c[np.arange(3), reduced.end_dofs[:3]] = 1.0
+    _, want, _ = lsim((a, b[:, 1:2], c, np.zeros((3, 1))), force, times)
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-10 * np.abs(want).max())
