@@ -19,7 +19,13 @@ from motoflex_ros.vehicle.tyre import tyre_from_config
 
 __all__ = ["Body", "Joint", "Wheel", "VehicleModel", "load_vehicle", "vehicle_from_dict",
            "inertia_matrix", "check_inertia", "parallel_axis", "composite_inertia",
-           "combine_parts"]
+           "combine_parts", "WHEEL_AXIS_TOLERANCE_RAD"]
+
+WHEEL_AXIS_TOLERANCE_RAD = 1e-3
+"""Largest angle [rad] between a wheel's spin axis and the lateral axis y. The engine linearizes
+about upright, straight running: a wheel whose axis is toed (x) or cambered (z) would not roll
+straight ahead upright in the reference configuration (an x axis makes the contact frame
+singular)."""
 
 
 @dataclass(frozen=True)
@@ -178,6 +184,11 @@ def combine_parts(parts, source, key):
 def _body(name, spec, source):
     key = f"bodies.{name}"
     if spec["parts"]:
+        for sibling in ("mass", "com", "inertia"):
+            if spec[sibling] is not None:
+                raise ConfigError(source, f"{key}.{sibling}",
+                                  "not allowed beside parts (the parts give the body's mass, "
+                                  "com and inertia): give either parts or mass, com and inertia")
         mass, com, inertia = combine_parts(spec["parts"], source, key)
     else:
         massless = spec["mass"] == 0.0 and spec["inertia"] is None
@@ -191,6 +202,22 @@ def _body(name, spec, source):
         if not massless:
             check_inertia(inertia, source, f"{key}.inertia")
     return Body(name, float(mass), np.asarray(com, float), inertia)
+
+
+def _lateral_axis(vector, source, key):
+    """A wheel's unit spin axis, within WHEEL_AXIS_TOLERANCE_RAD of +y (a -y axis is turned)."""
+    axis = _unit_axis(vector, source, key)
+    # the spin axis has no physical sign, but the contact frame is built from it: take it
+    # pointing left (+y) so that tyre moments do not depend on how the file wrote it
+    axis = -axis if axis[1] < 0 else axis
+    tilt = float(np.arccos(min(axis[1], 1.0)))
+    if tilt > WHEEL_AXIS_TOLERANCE_RAD:
+        raise ConfigError(source, key, f"the wheel axis {np.round(axis, 6).tolist()} is "
+                                       f"{np.degrees(tilt):.4g} deg from the lateral axis; "
+                                       f"allowed: within {WHEEL_AXIS_TOLERANCE_RAD:g} rad of "
+                                       f"[0, 1, 0] or [0, -1, 0] (the engine linearizes about "
+                                       f"upright, straight running)")
+    return axis
 
 
 def _unit_axis(vector, source, key):
@@ -239,10 +266,7 @@ def _wheels(spec, bodies, source, gravity):
                               f"crown radius {w['crown_radius']:g} m must be below the wheel "
                               f"radius {w['radius']:g} m")
         tyre = tyre_from_config(w["tyre"], source, f"{key}.tyre", loads[name], w["crown_radius"])
-        axis = _unit_axis(w["axis"], source, f"{key}.axis")
-        # the spin axis has no physical sign, but the contact frame is built from it: take it
-        # pointing left (+y) so that tyre moments do not depend on how the file wrote it
-        axis = -axis if axis[1] < 0 else axis
+        axis = _lateral_axis(w["axis"], source, f"{key}.axis")
         wheels.append(Wheel(name, w["carrier"], np.asarray(w["centre"], float), axis, w["radius"],
                             w["crown_radius"], w["mass"], w["inertia"]["diametral"],
                             w["inertia"]["spin"], tyre))

@@ -7,7 +7,7 @@ N m/rad, damping in N m s/rad, gravity in m/s^2.
 from motoflex_ros.config import Field, number, positive
 from motoflex_ros.units import kmh_to_ms
 
-__all__ = ["VEHICLE_SCHEMA", "TYRE_SCHEMAS", "REFERENCE_SPEED"]
+__all__ = ["VEHICLE_SCHEMA", "TYRE_SCHEMAS", "REFERENCE_SPEED", "MF_COEFFICIENTS"]
 
 _INERTIA = Field("mapping", fields={
     "xx": positive(), "yy": positive(), "zz": positive(),
@@ -73,6 +73,15 @@ VEHICLE_SCHEMA = Field("mapping", fields={
 
 _RELAXATION = {"relaxation_length": positive(help="[m]")}
 
+MF_COEFFICIENTS = ("Cy", "pdy1", "pdy2", "pdy3", "pey1", "pey2", "pey4", "pky1", "pky2", "pky3",
+                   "pky4", "pky5", "pky6", "pky7", "Cgamma", "Egamma", "Ct", "qbz1", "qbz2",
+                   "qbz5", "qbz6", "qbz9", "qbz10", "qdz1", "qdz2", "qdz3", "qdz4", "qdz8",
+                   "qdz9", "qdz10", "qdz11", "qez1", "qez2", "qez5", "qhz3", "qhz4")
+"""Pure-slip side force and aligning moment coefficients of the motorcycle Magic Formula that
+:mod:`motoflex_ros.vehicle.tyre` uses (reference/motorcycle-data.md sect. 1.1-1.2, names as in
+[MD]); the combined-slip and longitudinal ones (rby*, Cyk...) are not modelled. All are required
+(missing ones are listed together by ``tyre_from_config``); any other key is refused."""
+
 TYRE_SCHEMAS = {
     "knife_edge": Field("mapping", fields={"model": Field("str")}),
     "linear": Field("mapping", fields={
@@ -83,8 +92,10 @@ TYRE_SCHEMAS = {
         "twisting_stiffness": number(required=False, default=0.0, help="[N m/rad]"),
         **_RELAXATION,
     }),
-    "magic_formula": Field("mapping", extra=True, item=number(), fields={
+    "magic_formula": Field("mapping", fields={
         "model": Field("str"),
+        **{name: number(required=False, default=None, help="Magic Formula coefficient")
+           for name in MF_COEFFICIENTS},
         "Fz0": positive(help="nominal load [N]"),
         "relaxation_a": positive(help="lateral compliance coefficient [m/N]"),
         "relaxation_b": number(help="[s/N]"),

@@ -22,15 +22,10 @@ import numpy as np
 
 from motoflex_ros.config import validate
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.vehicle.schema import TYRE_SCHEMAS
+from motoflex_ros.vehicle.schema import MF_COEFFICIENTS, TYRE_SCHEMAS
 
 __all__ = ["LinearTyre", "linear_tyre", "mf_side_force", "mf_aligning_moment",
            "mf_linearized", "tyre_from_config", "MF_COEFFICIENTS"]
-
-MF_COEFFICIENTS = ("Cy", "pdy1", "pdy2", "pdy3", "pey1", "pey2", "pey4", "pky1", "pky2", "pky3",
-                   "pky4", "pky5", "pky6", "pky7", "Cgamma", "Egamma", "Ct", "qbz1", "qbz2",
-                   "qbz5", "qbz6", "qbz9", "qbz10", "qdz1", "qdz2", "qdz3", "qdz4", "qdz8",
-                   "qdz9", "qdz10", "qdz11", "qez1", "qez2", "qez5", "qhz3", "qhz4")
 
 
 @dataclass(frozen=True)
@@ -142,7 +137,7 @@ def tyre_from_config(spec, source, key, fz, crown_radius):
         return linear_tyre(spec["cornering_stiffness"], spec["camber_stiffness"],
                            spec["aligning_stiffness"], spec["twisting_stiffness"],
                            spec["relaxation_length"])
-    missing = [name for name in MF_COEFFICIENTS if name not in spec]
+    missing = [name for name in MF_COEFFICIENTS if spec[name] is None]
     if missing:
         raise ConfigError(source, f"{key}.{missing[0]}",
                           f"missing Magic Formula coefficient (required: {', '.join(missing)})")
