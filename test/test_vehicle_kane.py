@@ -4,7 +4,9 @@ A different code path from motoflex_ros.vehicle: sympy.physics.mechanics derives
 method, the unconstrained mass matrix and forcing of the vehicle in heading-frame quasi-speeds,
 every part of the frame body as its own rigid body (so the parallel-axis combination is checked
 too), the toroidal contact point (crown radius), the rolling-constraint Jacobian and its time
-derivative by symbolic differentiation, the tyre force and moment, the rider lean spring/damper
+derivative by symbolic differentiation, the tyre force and moment (Magic Formula linearized at
+wheel loads this file computes from the YAML by moment balance, not at the engine's static
+loads), the rider lean spring/damper
 and the steering damper. Numerically: contact heights by Newton, dependent speeds from the
 constraints, accelerations from the saddle-point (KKT) system with multipliers (not partial
 velocities), relaxation equations divided by sigma(v), linearization by complex step. The
@@ -17,9 +19,15 @@ import yaml
 sm = pytest.importorskip("sympy")
 me = pytest.importorskip("sympy.physics.mechanics")
 
+from test_vehicle_mass_published import (  # noqa: E402
+    moment_balance_loads,
+    yaml_centre_of_mass,
+)
+
 from motoflex_ros.config import config_path  # noqa: E402
 from motoflex_ros.vehicle.linearize import linearize  # noqa: E402
 from motoflex_ros.vehicle.model import vehicle_from_dict  # noqa: E402
+from motoflex_ros.vehicle.tyre import tyre_from_config  # noqa: E402
 
 pytestmark = pytest.mark.slow
 H = 1e-30
@@ -215,11 +223,20 @@ def touring_data():
         return yaml.safe_load(stream)
 
 
+def oracle_tyres(data):
+    """Front and rear linear tyres: the Magic Formula linearized at the wheel loads computed
+    here from the YAML (moment balance about the contact points), not at the engine's."""
+    mass, com = yaml_centre_of_mass(data)
+    loads = moment_balance_loads(data, mass, com)
+    return tuple(tyre_from_config(data["wheels"][name]["tyre"], "touring", f"{name}.tyre", fz,
+                                  data["wheels"][name]["crown_radius"])
+                 for name, fz in zip(("front", "rear"), loads))
+
+
 @pytest.fixture(scope="module")
 def oracle(touring_data):
     engine = linearize(vehicle_from_dict(touring_data, "touring"))
-    wheels = {w.name: w.tyre for w in engine.system.model.wheels}
-    tyres = (wheels["front"], wheels["rear"])
+    tyres = oracle_tyres(touring_data)
     model = KaneMotorcycle(touring_data, tyres)
     return engine, model.numeric(), tyres
 
