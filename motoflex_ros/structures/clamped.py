@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from motoflex_ros.errors import ModelError
 from motoflex_ros.identify.axis import axis_stiffness, deformation_axis
 from motoflex_ros.spatial import skew
 
@@ -77,12 +78,19 @@ def mode_axis(end_motion, q0):
 
 
 def modal_damping(M, K, zeta):
-    """Damping matrix giving every mode of (M, K) the ratio ``zeta`` [N s/m..].
+    """Damping matrix giving mode i of (M, K) the ratio zeta_i [N s/m..].
 
-    C = M Phi diag(2 zeta omega) Phi^T M with Phi mass-normalised (Phi^T M Phi = 1).
+    C = M Phi diag(2 zeta_i omega_i) Phi^T M with Phi mass-normalised (Phi^T M Phi = 1), modes
+    in ascending frequency. ``zeta`` [-]: one ratio for all modes, or one per mode (ModelError
+    when the count differs from the number of modes).
     """
     w2, phi = sla.eigh(K, M)
     omega = np.sqrt(np.maximum(w2, 0.0))
+    if np.ndim(zeta) and len(zeta) != len(omega):
+        raise ModelError(f"damping ratio: {len(zeta)} values given, but the clamped reduced "
+                         f"model has {len(omega)} modes (its free interface DOFs plus the "
+                         f"kept fixed-interface modes); give one value or {len(omega)}")
+    zeta = np.asarray(zeta, float)
     mphi = M @ phi
     return (mphi * (2 * zeta * omega)) @ mphi.T
 
@@ -209,7 +217,8 @@ def reduce_clamped(name, cb, keep, end_dofs, q0, expand):
 
     ``keep`` are reduced-coordinate indices kept (free boundary DOFs then all modal ones);
     ``expand`` (sparse) maps full-model DOFs to all node DOFs. Every mode of the clamped
-    reduced model gets the Craig-Bampton model's damping ratio ``cb.zeta`` (:func:`modal_damping`).
+    reduced model gets the Craig-Bampton model's damping ratio ``cb.zeta`` (one for all, or one
+    per mode in ascending frequency: :func:`modal_damping`).
     """
     m = cb.M[np.ix_(keep, keep)]
     k = cb.K[np.ix_(keep, keep)]

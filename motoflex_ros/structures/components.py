@@ -16,14 +16,17 @@ from pathlib import Path
 
 import numpy as np
 
-from motoflex_ros.config import resolve_config
+from motoflex_ros.config import Field, number, resolve_config, validate
+from motoflex_ros.errors import ConfigError
 from motoflex_ros.structures.assembly import Structure
 from motoflex_ros.structures.beam import Material, tube_section
 from motoflex_ros.structures.clamped import reduce_clamped
 from motoflex_ros.structures.craig_bampton import craig_bampton
 from motoflex_ros.structures.schema import load_component_config, structure_from_config
 
-__all__ = ["Component", "load_component", "tube_component"]
+__all__ = ["Component", "load_component", "tube_component", "DEFAULT_DAMPING_RATIO"]
+
+DEFAULT_DAMPING_RATIO = 0.01  # issue 3: modal damping ratio per mode, default 1 %
 
 
 @dataclass(frozen=True)
@@ -33,7 +36,9 @@ class Component:
     ``node_xyz`` (n, 3) [m] in the component frame; ``elements`` (n_e, 2) node pairs;
     ``clamp_nodes``, ``loaded_end`` node indices; ``interface_nodes`` all boundary nodes
     (clamps first, then the loaded end, then others); ``node_names`` name -> index of the
-    named nodes; ``origin`` O in the vehicle frame [m].
+    named nodes; ``origin`` O in the vehicle frame [m]; ``damping_ratio`` [-] the modal
+    damping of the clamped reduced model: one ratio for all modes or one per mode (ascending
+    frequency), from the file's optional ``damping_ratio`` key (default 0.01).
     """
 
     name: str
@@ -44,6 +49,7 @@ class Component:
     node_names: dict
     origin: np.ndarray
     source: str = ""
+    damping_ratio: object = DEFAULT_DAMPING_RATIO
 
     @property
     def node_xyz(self):
@@ -75,19 +81,34 @@ class Component:
         """Sparse K, M of the unclamped structure (links eliminated)."""
         return self.structure.assemble()
 
-    def craig_bampton(self, n_modes=20, f_max_hz=600.0, zeta=0.01):
+    def craig_bampton(self, n_modes=20, f_max_hz=600.0, zeta=None):
         """Craig-Bampton model with all DOFs of all interface nodes as boundary.
 
+        ``zeta`` [-] (None: the component's ``damping_ratio``) as in :meth:`clamped_reduced`.
         Returns (CraigBamptonModel, AssembledStructure).
         """
         asm = self.assembled()
         boundary = np.concatenate([asm.node_dofs(n) for n in self.interface_nodes])
-        return craig_bampton(asm.K, asm.M, boundary, n_modes, f_max_hz, zeta), asm
+        zeta = self.damping_ratio if zeta is None else zeta
+        cb = craig_bampton(asm.K, asm.M, boundary, n_modes, f_max_hz, zeta)
+        self._check_damping_count(cb)
+        return cb, asm
 
-    def clamped_reduced(self, n_modes=20, f_max_hz=600.0, zeta=0.01):
+    def _check_damping_count(self, cb):
+        """ConfigError (file, key damping_ratio) when a per-mode list does not have one value
+        per mode of the clamped reduced model."""
+        n = len(self.clamped_coordinates(cb)[0])
+        if np.ndim(cb.zeta) and len(cb.zeta) != n:
+            raise ConfigError(self.source or self.name, "damping_ratio",
+                              f"{len(cb.zeta)} values given; the clamped reduced model has "
+                              f"{n} modes ({n - cb.n_modes} free interface DOFs + "
+                              f"{cb.n_modes} fixed-interface modes): give one value or {n}")
+
+    def clamped_reduced(self, n_modes=20, f_max_hz=600.0, zeta=None):
         """Clamped reduced model (clamp-node DOFs removed) for the bench: ReducedComponent.
 
-        ``zeta`` [-] is the damping ratio given to every mode of the clamped reduced model.
+        ``zeta`` [-] is the damping ratio of the clamped reduced model's modes: one for all or
+        one per mode in ascending frequency (None: the component's ``damping_ratio``).
         """
         cb, asm = self.craig_bampton(n_modes, f_max_hz, zeta)
         keep, end_dofs = self.clamped_coordinates(cb)
@@ -136,4 +157,17 @@ def load_component(name_or_file):
                               cfg["elements"])
     else:
         comp = structure_from_config(cfg, path, Component)
-    return replace(comp, source=str(Path(path)))
+    return replace(comp, source=str(Path(path)),
+                   damping_ratio=damping_ratio_setting(cfg.get("damping_ratio"), path))
+
+
+def damping_ratio_setting(value, source):
+    """The ``damping_ratio`` key [-]: None (default 1 %), a number in [0, 1) or a non-empty list
+    of them (one per mode of the clamped reduced model); ConfigError naming file and key."""
+    if value is None:
+        return DEFAULT_DAMPING_RATIO
+    ratio = number(0.0, 1.0, open_high=True)
+    if isinstance(value, list):
+        return tuple(validate(value, Field("list", min_items=1, item=ratio), source,
+                              "damping_ratio"))
+    return validate(value, ratio, source, "damping_ratio")

@@ -10,9 +10,10 @@ DOFs into boundary b (all DOFs of the interface nodes, kept physical) and interi
 
 One sparse LU of K_ii (scipy splu in symmetric mode) serves both the constraint modes and the
 shift-invert eigsh (sigma = 0, OPinv = K_ii^-1). The reduction carries no damping matrix, only
-the ratio zeta: the clamped reduced model gives each of its own modes that ratio
-(:func:`motoflex_ros.structures.clamped.modal_damping`), which damping on the fixed-interface
-modes alone would not (the loaded end's boundary DOFs would stay undamped).
+the ratio zeta (one for all modes, or one per mode): the clamped reduced model gives each of
+its own modes its ratio (:func:`motoflex_ros.structures.clamped.modal_damping`), which damping
+on the fixed-interface modes alone would not (the loaded end's boundary DOFs would stay
+undamped).
 """
 from dataclasses import dataclass
 
@@ -22,7 +23,7 @@ import scipy.sparse.linalg as spla
 
 from motoflex_ros.errors import ModelError
 
-__all__ = ["CraigBamptonModel", "craig_bampton", "symmetric_lu"]
+__all__ = ["CraigBamptonModel", "craig_bampton", "symmetric_lu", "checked_damping_ratio"]
 
 
 @dataclass(frozen=True)
@@ -32,7 +33,9 @@ class CraigBamptonModel:
     M [kg..], K [N/m..] dense (n_b + n_m square); ``transform`` (sparse-dense,
     n_full x (n_b + n_m)) maps reduced coordinates to the full model's DOFs; ``boundary`` the
     full-model indices of the boundary DOFs; ``frequencies_hz`` the kept fixed-interface modal
-    frequencies [Hz]; ``zeta`` the modal damping ratio [-] the reduced models are given.
+    frequencies [Hz]; ``zeta`` the modal damping ratio [-] the reduced models are given: a
+    float for every mode, or a tuple with one ratio per mode of the clamped reduced model
+    (ascending frequency).
     """
 
     M: np.ndarray
@@ -40,7 +43,7 @@ class CraigBamptonModel:
     transform: np.ndarray
     boundary: np.ndarray
     frequencies_hz: np.ndarray
-    zeta: float
+    zeta: object
 
     @property
     def n_modes(self):
@@ -96,9 +99,11 @@ def craig_bampton(K, M, boundary, n_modes=20, f_max_hz=600.0, zeta=0.01):
         Maximum number of fixed-interface normal modes kept (default 20).
     f_max_hz : float
         No mode above this frequency is kept [Hz] (default 600).
-    zeta : float
-        Modal damping ratio [-] (default 0.01), carried to the reduced models built from this
-        one (:func:`motoflex_ros.structures.clamped.reduce_clamped`).
+    zeta : float or sequence of float
+        Modal damping ratio [-] in [0, 1) (default 0.01: 1 % on every mode), or one ratio per
+        mode of the clamped reduced model in ascending frequency (issue 3: "modal damping ratio
+        per mode"); carried to the reduced models built from this one
+        (:func:`motoflex_ros.structures.clamped.reduce_clamped`, which checks the length).
 
     """
     K, M = sp.csc_matrix(K), sp.csc_matrix(M)
@@ -120,4 +125,17 @@ def craig_bampton(K, M, boundary, n_modes=20, f_max_hz=600.0, zeta=0.01):
     m_red = transform.T @ (M @ transform)
     k_red, m_red = 0.5 * (k_red + k_red.T), 0.5 * (m_red + m_red.T)
     return CraigBamptonModel(M=m_red, K=k_red, transform=transform,
-                             boundary=boundary, frequencies_hz=freq, zeta=float(zeta))
+                             boundary=boundary, frequencies_hz=freq,
+                             zeta=checked_damping_ratio(zeta))
+
+
+def checked_damping_ratio(zeta):
+    """A modal damping ratio [-] as a float, or a tuple of per-mode ratios; ModelError unless
+    every ratio is a finite number in [0, 1) (underdamped) and a list is not empty."""
+    values = np.atleast_1d(np.asarray(zeta, float))
+    if values.ndim != 1 or values.size == 0:
+        raise ModelError(f"damping ratio: expected a number or a non-empty list, got {zeta!r}")
+    bad = [float(v) for v in values if not (np.isfinite(v) and 0.0 <= v < 1.0)]
+    if bad:
+        raise ModelError(f"damping ratio {bad[0]:g} is out of the allowed range [0, 1)")
+    return float(values[0]) if np.ndim(zeta) == 0 else tuple(map(float, values))

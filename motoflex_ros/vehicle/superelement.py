@@ -113,10 +113,11 @@ def _assembled_rigid_field(asm, node_xyz):
     return spla.spsolve(normal, asm.expand.T @ gamma_nodes).reshape(-1, 6)
 
 
-def superelement_of(component, parent, n_modes=20, f_max_hz=600.0, zeta=0.01):
+def superelement_of(component, parent, n_modes=20, f_max_hz=600.0, zeta=None):
     """Superelement of a structures Component welded to body ``parent`` at its clamps.
 
-    The reduced matrices are those of ``component.clamped_reduced(n_modes, f_max_hz, zeta)``;
+    The reduced matrices are those of ``component.clamped_reduced(n_modes, f_max_hz, zeta)``
+    (``zeta`` None: the component's own damping_ratio);
     node positions are taken in the vehicle frame (placement origin + component frame).
     """
     cb, asm = component.craig_bampton(n_modes, f_max_hz, zeta)
