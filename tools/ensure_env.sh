@@ -12,8 +12,11 @@ if [ ! -f "$STAMP" ] || [ "$(cat "$STAMP")" != "$want" ]; then
     PY="${PYTHON:-python3}"
     [ -x "$VENV/bin/python" ] || "$PY" -m venv "$VENV"
     [ -x "$VENV/bin/uv" ] || "$VENV/bin/python" -m pip install --quiet uv
-    # uv reads no pip configuration: it resolves from the public index only.
-    "$VENV/bin/uv" pip install --quiet --python "$VENV/bin/python" -e "$ROOT[ros,record,scale,test]"
+    # uv reads no pip configuration: it resolves from the public index only. --compile-bytecode:
+    # uv writes no .pyc by default, and every node process of a campaign would compile scipy
+    # from source again (about 1.4 CPU-s each; worst with PYTHONDONTWRITEBYTECODE set).
+    "$VENV/bin/uv" pip install --quiet --compile-bytecode --python "$VENV/bin/python" \
+        -e "$ROOT[ros,record,scale,test]"
     echo "$want" > "$STAMP"
 fi
 export PATH="$VENV/bin:$PATH"

@@ -11,7 +11,6 @@ single sample there is no spread estimate: the covariance is NaN and so is the i
 import math
 
 import numpy as np
-from scipy import stats
 
 __all__ = ["jacobian", "propagate", "mean_and_covariance", "interval", "LEVEL"]
 
@@ -55,6 +54,8 @@ def interval(value, variance, dof=None, level=LEVEL):
     variance = float(variance)
     if not math.isfinite(variance) or (dof is not None and dof < 1):
         return [math.nan, math.nan]
+    from scipy import stats  # here, not at the top: importing scipy.stats costs about 1 CPU-s,
+    # and every bench node imports this module but only the identification node needs it
     q = stats.t.ppf(0.5 + level / 2, dof) if dof is not None else stats.norm.ppf(0.5 + level / 2)
     half = q * np.sqrt(max(variance, 0.0))
     return [float(value - half), float(value + half)]

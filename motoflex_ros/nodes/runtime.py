@@ -197,13 +197,28 @@ class FastSpinner:
 
 
 def _profiler():
-    """A running cProfile.Profile if MOTOFLEX_PROFILE names a directory (development aid)."""
+    """A running cProfile.Profile if MOTOFLEX_PROFILE names a directory (development aid; the
+    node's start-up, imports and set-up, included)."""
     if not os.environ.get("MOTOFLEX_PROFILE"):
         return None
     import cProfile
     profile = cProfile.Profile()
     profile.enable()
     return profile
+
+
+def _dump_profile(profile, name):
+    """Write ``<name>.prof`` and ``<name>.cpu.json`` (the whole process's CPU seconds, all
+    threads, from ``resource.getrusage``) to $MOTOFLEX_PROFILE."""
+    import json
+    import resource
+    profile.disable()
+    folder = os.environ["MOTOFLEX_PROFILE"]
+    profile.dump_stats(f"{folder}/{name}.prof")
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    with open(f"{folder}/{name}.cpu.json", "w") as out:
+        json.dump({"user_s": usage.ru_utime, "system_s": usage.ru_stime,
+                   "main_thread_s": time.thread_time()}, out)
 
 
 def _deliver_everything(node, timeout_s=30.0):
@@ -220,6 +235,7 @@ def _deliver_everything(node, timeout_s=30.0):
 def run_node(node_class, args=None):
     """Run ``node_class`` until it finishes or gets SIGINT/SIGTERM; returns the exit code."""
     stop = []
+    profile = _profiler()
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, lambda num, _frame: stop.append(signal.Signals(num).name))
@@ -230,10 +246,10 @@ def run_node(node_class, args=None):
         rclpy.try_shutdown()
         return 2
     spinner = FastSpinner(node)
-    profile = _profiler()
     launcher = os.environ.get("MOTOFLEX_PARENT_PID")
     try:
         while not stop and not node.finished:
+            node.announce_ready()   # every node, pacers too (the launcher waits for all)
             node.step(spinner)
             if launcher and os.getppid() != int(launcher):
                 stop.append("launcher gone")   # the motoflex process that started us died
@@ -241,12 +257,12 @@ def run_node(node_class, args=None):
         node.get_logger().error(str(exc))
         node.exit_code = 2
     finally:
-        if profile is not None:
-            profile.disable()
-            profile.dump_stats(f"{os.environ['MOTOFLEX_PROFILE']}/{node.get_name()}.prof")
         if node.finished:
             _deliver_everything(node)
         node.close(stop[0] if stop else "finished")
+        name = node.get_name()
         node.destroy_node()
         rclpy.try_shutdown()
+        if profile is not None:
+            _dump_profile(profile, name)
     return node.exit_code
