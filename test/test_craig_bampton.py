@@ -9,18 +9,13 @@ from motoflex_ros.structures import load_component
 from motoflex_ros.structures.beam import Material
 from motoflex_ros.structures.components import tube_component
 from motoflex_ros.structures.craig_bampton import craig_bampton
+from motoflex_ros.structures.full_model import full_clamped_matrices
 
 
 def _full_clamped(component):
     """Full model with the clamps applied: (K, M, free-DOF indices of the loaded end)."""
-    s = component.structure
-    saved = set(s.clamped)
-    s.clamped.update(component.clamp_nodes)
-    try:
-        asm = s.assemble()
-    finally:
-        s.clamped = saved
-    return asm.K, asm.M, asm.node_dofs(component.loaded_end)
+    k, m, asm = full_clamped_matrices(component)
+    return k, m, asm.node_dofs(component.loaded_end)
 
 
 @pytest.mark.parametrize("name", MOTORCYCLE_COMPONENTS)

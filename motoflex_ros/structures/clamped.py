@@ -17,7 +17,7 @@ from motoflex_ros.identify.axis import axis_stiffness, deformation_axis
 from motoflex_ros.spatial import skew
 
 __all__ = ["ReducedComponent", "StaticResult", "label_mode", "end_pose", "modal_damping",
-           "state_space", "reduce_clamped"]
+           "state_space", "reduce_clamped", "end_share"]
 
 LATERAL = (1, 3, 5)     # u_y, theta_x, theta_z at the loaded end
 PLANAR = (0, 2, 4)      # u_x, u_z, theta_y
@@ -41,10 +41,26 @@ def _small_scale(end_motion, q0, size=1e-6):
     return size * length / amp
 
 
-def _end_share(node_motion, end_dofs, reduced_motion, q0):
-    """Loaded-end amplitude max(|u|, L |theta|) over the largest node translation [-]."""
+def end_share(node_motion, end_motion, q0):
+    """How much the loaded end takes part in a mode: the ``end_share`` of :func:`label_mode`.
+
+    Parameters
+    ----------
+    node_motion : array (6 n_nodes,)
+        The mode's motion of all nodes (ux, uy, uz, rx, ry, rz each) [m, rad].
+    end_motion : array (6,)
+        The loaded end's motion (u, theta) [m, rad].
+    q0 : array (3,)
+        The loaded end [m]; L = |q0| weighs the rotations.
+
+    Returns
+    -------
+    float
+        max(|u|, L |theta|) at the loaded end over the largest node translation [-].
+
+    """
     nodes = np.asarray(node_motion).reshape(-1, 6)
-    end = reduced_motion[end_dofs]
+    end = np.asarray(end_motion)
     amp = max(np.linalg.norm(end[:3]), np.linalg.norm(q0) * np.linalg.norm(end[3:]))
     return amp / max(np.max(np.linalg.norm(nodes[:, :3], axis=1)), 1e-300)
 
@@ -225,8 +241,8 @@ def reduce_clamped(name, cb, keep, end_dofs, q0, expand):
     w2, phi = sla.eigh(k, m)
     freq = np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi)
     transform = np.asarray(expand @ cb.transform[:, keep])
-    labels = tuple(label_mode(phi[end_dofs, j], q0, _end_share(transform @ phi[:, j],
-                                                                 end_dofs, phi[:, j], q0))
+    labels = tuple(label_mode(phi[end_dofs, j], q0,
+                              end_share(transform @ phi[:, j], phi[end_dofs, j], q0))
                    for j in range(len(freq)))
     return ReducedComponent(name=name, M=m, K=k, C=modal_damping(m, k, cb.zeta),
                             end_dofs=np.asarray(end_dofs), q0=np.asarray(q0, float),

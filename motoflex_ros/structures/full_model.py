@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from motoflex_ros.structures.clamped import label_mode
+from motoflex_ros.structures.clamped import end_share, label_mode
 
 __all__ = ["FullModes", "full_clamped_matrices", "full_clamped_modes"]
 
@@ -42,13 +42,6 @@ def full_clamped_matrices(component):
     return asm.K, asm.M, asm
 
 
-def _end_share(node_motion, end_motion, q0):
-    """Loaded-end amplitude max(|u|, L |theta|) over the largest node translation [-]."""
-    nodes = np.asarray(node_motion).reshape(-1, 6)
-    amp = max(np.linalg.norm(end_motion[:3]), np.linalg.norm(q0) * np.linalg.norm(end_motion[3:]))
-    return amp / max(np.max(np.linalg.norm(nodes[:, :3], axis=1)), 1e-300)
-
-
 def full_clamped_modes(component, n_modes=30):
     """FullModes: the ``n_modes`` lowest modes of the full clamped model of ``component``.
 
@@ -73,7 +66,7 @@ def full_clamped_modes(component, n_modes=30):
     w2, phi = w2[order], phi[:, order]
     end = asm.node_dofs(component.loaded_end)
     q0 = component.q0
-    labels = tuple(label_mode(phi[end, j], q0, _end_share(asm.expand @ phi[:, j], phi[end, j],
-                                                           q0))
+    labels = tuple(label_mode(phi[end, j], q0, end_share(asm.expand @ phi[:, j], phi[end, j],
+                                                         q0))
                    for j in range(count))
     return FullModes(np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi), labels)
