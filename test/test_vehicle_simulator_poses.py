@@ -2,8 +2,10 @@
 
 The node's road test is run with publishers that keep the messages (no DDS needed); every
 PoseArray must carry frame 'odom' and, pose by pose, the core's
-:func:`motoflex_ros.vehicle.poses.world_poses` of the same steer-pulse response (round trip
-through the message, quaternions compared as rotation matrices).
+:func:`motoflex_ros.vehicle.poses.world_poses` of the same steer-pulse response at the same
+sample (round trip through the message, quaternions compared as rotation matrices). The node
+publishes the bodies at ``bodies_rate_hz`` (50 Hz: every 4th sample of the 200 Hz response);
+the core computes all samples here.
 """
 import numpy as np
 import pytest
@@ -12,7 +14,12 @@ pytest.importorskip("rclpy")
 from scipy.spatial.transform import Rotation  # noqa: E402
 
 from motoflex_ros.config import config_path  # noqa: E402
-from motoflex_ros.nodes.vehicle_simulator import WORLD_FRAME, VehicleSimulatorNode  # noqa: E402
+from motoflex_ros.nodes.conversions import time_ns  # noqa: E402
+from motoflex_ros.nodes.vehicle_simulator import (  # noqa: E402
+    WORLD_FRAME,
+    VehicleSimulatorNode,
+    body_rows,
+)
 from motoflex_ros.vehicle.linearize import linearize  # noqa: E402
 from motoflex_ros.vehicle.model import load_vehicle  # noqa: E402
 from motoflex_ros.vehicle.poses import world_poses  # noqa: E402
@@ -32,15 +39,19 @@ def test_node_bodies_are_core_world_poses_roundtrip():
     lin, speed = linearize(model), 100.0 / 3.6       # the node's default road test
     node = VehicleSimulatorNode.__new__(VehicleSimulatorNode)
     node.joints_pub, node.bodies_pub = KeepingPublisher(), KeepingPublisher()
-    node._road_test(lin, model, speed)
+    node._road_test(lin, model, speed, 50.0)
     pulse = steer_pulse_response(lin, speed, outputs=tuple(lin.state_names))
-    poses = world_poses(lin, pulse.time, pulse.outputs, speed)
+    poses = world_poses(lin, pulse.time, pulse.outputs, speed)   # every sample
     frames = [lin.system.tree.body_frames[b.name] for b in model.bodies if b.mass > 0]
     messages = node.bodies_pub.messages
-    assert len(messages) == len(pulse.time) == len(node.joints_pub.messages)
+    rows = list(range(0, len(pulse.time), 4))                    # 50 Hz of 200 Hz
+    assert len(node.joints_pub.messages) == len(pulse.time)
+    assert len(messages) == len(rows) and list(body_rows(pulse.time, 50.0)) == rows
     assert {m.header.frame_id for m in messages} == {WORLD_FRAME} == {"odom"}
-    for k in (0, len(messages) // 3, len(messages) - 1):
-        for pose, frame in zip(messages[k].poses, frames):
+    for i in (0, len(messages) // 3, len(messages) - 1):
+        k = rows[i]
+        assert time_ns(messages[i].header.stamp) == round(pulse.time[k] * 1e9)
+        for pose, frame in zip(messages[i].poses, frames):
             p, o = pose.position, pose.orientation
             np.testing.assert_allclose([p.x, p.y, p.z], poses.translations[k, frame],
                                        atol=1e-12)

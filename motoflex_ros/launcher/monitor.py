@@ -61,7 +61,8 @@ class Monitor(Node):
                     bar.update(round(self.sim_ns / 1e9, 3) - bar.n)
                 code = graph.exited().get(pacer)
                 if code is not None:
-                    if code != 0:
+                    if code != 0:   # a worker that died first is the cause: name it
+                        graph.check_alive(allowed=(pacer, *_finished(graph, finishers)))
                         raise pacer_failed(graph, pacer, code)
                     if bar is not None:
                         bar.total = bar.n  # tests settle before their planned maximum

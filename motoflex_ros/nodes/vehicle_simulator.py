@@ -7,10 +7,12 @@ Waits for the identified parameters of ``components`` (on /identification/result
 - /vehicle/eigenvalues (diagnostic_msgs/DiagnosticArray): weave, wobble and capsize eigenvalues
   from ``speed_min_kmh`` to ``speed_max_kmh`` (step ``speed_step_kmh``), tracked by mode shape;
 - the steer-torque pulse road test at ``road_speed_kmh``: /vehicle/joint_states
-  (sensor_msgs/JointState: joint angles, rates, applied torques) and /vehicle/bodies
-  (geometry_msgs/PoseArray of the bodies with mass, in the world frame ``odom``: x forward
-  along the initial heading, the bike's path and heading integrated by the core,
-  :func:`motoflex_ros.vehicle.poses.world_poses`), stamped with the road-test time;
+  (sensor_msgs/JointState: joint angles, rates, applied torques; every sample of the response,
+  200 Hz) and /vehicle/bodies (geometry_msgs/PoseArray of the bodies with mass, in the world
+  frame ``odom``: x forward along the initial heading, the bike's path and heading integrated
+  by the core over every sample, :func:`motoflex_ros.vehicle.poses.world_poses`) at
+  ``bodies_rate_hz`` (default 50 Hz: enough to watch the weave, and the poses, a nonlinear
+  position solve per body pose sample, cost a quarter), stamped with the road-test time;
 - /vehicle/joint_axes (visualization_msgs/Marker, one per revolute joint, latched).
 
 Then it exits 0 (the campaign waits for it).
@@ -37,7 +39,7 @@ from motoflex_ros.nodes.conversions import (
 from motoflex_ros.nodes.params import Param
 from motoflex_ros.nodes.runtime import RigNode, latched_qos, publish_patiently, run_node
 
-__all__ = ["VehicleSimulatorNode", "main"]
+__all__ = ["VehicleSimulatorNode", "main", "body_rows"]
 
 FRAME = "vehicle"
 WORLD_FRAME = "odom"
@@ -58,6 +60,8 @@ class VehicleSimulatorNode(RigNode):
         Param("speed_max_kmh", 210.0, 1.0, 400.0, description="highest speed [km/h]"),
         Param("speed_step_kmh", 5.0, 0.1, 100.0, description="speed step [km/h]"),
         Param("road_speed_kmh", 100.0, 1.0, 400.0, description="road-test speed [km/h]"),
+        Param("bodies_rate_hz", 50.0, 0.1, 1000.0,
+              description="rate of /vehicle/bodies [Hz] (at most the response's 200 Hz)"),
     )
 
     def __init__(self):
@@ -111,15 +115,17 @@ class VehicleSimulatorNode(RigNode):
         self.eig_pub.publish(DiagnosticArray(status=mode_statuses(speeds, sweep.modes)))
         for k, joint in enumerate(j for j in model.joints if j.kind == "revolute"):
             self.axes_pub.publish(axis_marker(k, FRAME, joint.name, joint.point, joint.axis))
-        self._road_test(lin, model, p["road_speed_kmh"] / 3.6)
+        self._road_test(lin, model, p["road_speed_kmh"] / 3.6, p["bodies_rate_hz"])
         self.get_logger().info(f"vehicle: {len(speeds)} speeds, road test published")
 
-    def _road_test(self, lin, model, speed):
+    def _road_test(self, lin, model, speed, bodies_rate_hz):
         from motoflex_ros.vehicle.poses import world_poses
         from motoflex_ros.vehicle.response import steer_pulse_response
         names = tuple(lin.state_names)
         pulse = steer_pulse_response(lin, speed, outputs=names)
-        poses = world_poses(lin, pulse.time, pulse.outputs, speed)
+        rows = body_rows(pulse.time, bodies_rate_hz)
+        poses = world_poses(lin, pulse.time, pulse.outputs, speed, rows)
+        pose_of_row = {int(row): i for i, row in enumerate(rows)}
         tree = lin.system.tree
         coords = [c.name for c in tree.coordinates]
         joints = [n for n in names if n in coords and f"{n}_rate" in names]
@@ -133,8 +139,17 @@ class VehicleSimulatorNode(RigNode):
             publish_patiently(self.joints_pub, joint_state_msg(
                 ns, joints, [values[j] for j in joints], [values[f"{j}_rate"] for j in joints],
                 efforts))
-            publish_patiently(self.bodies_pub, poses_msg(
-                ns, WORLD_FRAME, poses.rotations[k, bodies], poses.translations[k, bodies]))
+            i = pose_of_row.get(k)
+            if i is not None:
+                publish_patiently(self.bodies_pub, poses_msg(
+                    ns, WORLD_FRAME, poses.rotations[i, bodies], poses.translations[i, bodies]))
+
+
+def body_rows(time, rate_hz):
+    """Indices of the response samples (``time`` [s], uniform) published on /vehicle/bodies at
+    about ``rate_hz`` [Hz]: every n-th sample, n = round(1 / (rate_hz dt)) >= 1, from the first."""
+    dt = (time[-1] - time[0]) / (len(time) - 1) if len(time) > 1 else 1.0
+    return np.arange(0, len(time), max(1, int(round(1.0 / (rate_hz * dt)))))
 
 
 def main(args=None):

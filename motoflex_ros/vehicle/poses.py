@@ -105,18 +105,24 @@ def frame_poses(tree, q_rows):
             np.array([[f.t for f in s] for s in states]))
 
 
-def world_poses(lin, time, states, speed):
+def world_poses(lin, time, states, speed, rows=None):
     """WorldPoses of a response: ``states`` (n_t, n_states) in ``lin.state_names`` order at
-    ``time`` [s], forward speed ``speed`` [m/s] (module docstring)."""
+    ``time`` [s], forward speed ``speed`` [m/s] (module docstring). ``rows``: indices of the
+    samples whose poses are wanted (default: all); the path is integrated over every sample
+    either way, so a pose at a row is the same as in the full result."""
     system = lin.system
     states = np.asarray(states, float)
-    q = response_coordinates(system, states)
-    heading, position = planar_path(time, speed, *base_rates(system, states, speed, q))
+    every = rows is None
+    rows = np.arange(len(states)) if every else np.asarray(rows, int)
+    q = response_coordinates(system, states[rows])
+    heading, position = planar_path(time, speed,
+                                    *base_rates(system, states, speed, q if every else None))
+    heading, position = heading[rows], position[rows]
     rotations, translations = frame_poses(system.tree, q)
     cos, sin = np.cos(heading), np.sin(heading)
     yaw = np.zeros((len(heading), 3, 3))
     yaw[:, 0, 0], yaw[:, 0, 1], yaw[:, 1, 0], yaw[:, 1, 1], yaw[:, 2, 2] = cos, -sin, sin, cos, 1
     offset = np.column_stack([position, np.zeros(len(heading))])
-    return WorldPoses(np.asarray(time, float), heading, position, q,
+    return WorldPoses(np.asarray(time, float)[rows], heading, position, q,
                       np.einsum("tij,tfjk->tfik", yaw, rotations),
                       np.einsum("tij,tfj->tfi", yaw, translations) + offset[:, None, :])
