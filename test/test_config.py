@@ -87,3 +87,40 @@ def test_shipped_config_found_through_package_resources():
     assert path.parent.name == "components" and path.parent.parent.name == "config"
     with pytest.raises(ConfigError, match="no shipped components configuration"):
         resolve_config("components", "no_such_component")
+
+
+def component_error(tmp_path, edit):
+    """ConfigError of the shipped swingarm component YAML after ``edit`` (written to a file)."""
+    import yaml
+
+    from motoflex_ros.config import load_yaml
+    from motoflex_ros.structures.components import load_component
+    data = load_yaml(config_path("components", "swingarm"))
+    edit(data)
+    path = tmp_path / "bad_component.yaml"
+    path.write_text(yaml.safe_dump(data))
+    with pytest.raises(ConfigError) as info:
+        load_component(str(path))
+    assert str(path) in str(info.value)
+    return info.value
+
+
+@pytest.mark.parametrize("inertia", [[0.01, 0.01, 0.05], [0.3, 0.001, 0.001]])
+def test_rigid_part_inertia_violates_triangle_inequality(tmp_path, inertia):
+    """Principal moments of a rigid body satisfy I1 + I2 >= I3 (the vehicle loader's check)."""
+    def edit(data):
+        data["rigid_parts"]["final_drive"]["inertia"] = inertia
+    err = component_error(tmp_path, edit)
+    assert err.key == "rigid_parts.final_drive.inertia" and "triangle inequality" in str(err)
+
+
+@pytest.mark.parametrize("edit", [
+    lambda d: d["nodes"].update(orphan=[0.3, 0.3, 0.3]),
+    lambda d: (d["nodes"].update(orphan=[0.3, 0.3, 0.3]),
+               d["rigid_parts"]["final_drive"].update(node="orphan")),
+])
+def test_unconnected_node_is_named(tmp_path, edit):
+    """A node no member, spring or rigid link uses made the interior stiffness singular with
+    no file or node named; a rigid part on it adds mass, not stiffness."""
+    err = component_error(tmp_path, edit)
+    assert err.key == "nodes.orphan" and "not connected" in str(err)

@@ -16,15 +16,14 @@ from motoflex_ros.bench.modes import clamped_modes
 from motoflex_ros.bench.plan import plan_campaign
 from motoflex_ros.bench.protocols import load_protocol, protocol_for
 from motoflex_ros.bench.response import ComponentSimulator
-from motoflex_ros.bench.sensor import MarkerSensor
+from motoflex_ros.bench.sensor import MAX_NOISE_M, MAX_SEED, MarkerSensor
 from motoflex_ros.identify.identifier import Identifier
-from motoflex_ros.identify.results import identify_component
+from motoflex_ros.identify.results import MODEL_TESTS, identify_component
 from motoflex_ros.spatial import rotation_from_vector
 
 __all__ = ["CampaignSetup", "CampaignRun", "setup_campaign", "make_stages", "run_campaign",
-           "identify_components", "only_tests", "with_sensor", "checked_noise", "MAX_NOISE_M"]
-
-MAX_NOISE_M = 1.0  # largest sensor-noise override [m] (the nodes' parameter range)
+           "identify_components", "only_tests", "with_sensor", "checked_noise", "MAX_NOISE_M",
+           "checked_seed", "MAX_SEED"]
 
 
 @dataclass(frozen=True)
@@ -69,13 +68,24 @@ def setup_campaign(component, protocol=None, noise_m=None):
 
 
 def checked_noise(noise_m, source="sensor noise override", key="noise_m"):
-    """A sensor-noise override [m] (standard deviation per coordinate), checked to [0, 1] m."""
+    """A sensor-noise override [m] (standard deviation per coordinate), checked to
+    [0, MAX_NOISE_M] (:data:`motoflex_ros.bench.sensor.MAX_NOISE_M`, 1 mm)."""
     from motoflex_ros.errors import ConfigError
     value = float(noise_m)
     if not 0.0 <= value <= MAX_NOISE_M:
-        raise ConfigError(source, key, f"sensor noise must be in [0, {MAX_NOISE_M:g}] m, "
+        raise ConfigError(source, key, f"sensor noise must be in [0, {MAX_NOISE_M:g}] m (the "
+                                       f"bench's deformations are at most about a millimetre), "
                                        f"got {value:g}")
     return value
+
+
+def checked_seed(seed, source="seed", key="seed"):
+    """A seed of the sensor noise: a whole number in [0, MAX_SEED] (numpy refuses negatives)."""
+    from motoflex_ros.errors import ConfigError
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
+        raise ConfigError(source, key, f"seed must be a whole number in [0, {MAX_SEED}], "
+                                       f"got {seed!r}")
+    return seed
 
 
 def with_sensor(setup, **changes):
@@ -126,7 +136,7 @@ def run_campaign(setup, seed=0, trace=False):
     _deliver(identifier, actuator, sensor.flush())
     readings = identifier.readings()
     result = None
-    if {"static", "torsion", "bending"} <= set(readings):
+    if set(MODEL_TESTS) <= set(readings):
         result = identify_component(setup.name, readings, setup.modes, q0)
     table = None
     if trace:

@@ -3,7 +3,8 @@
 Planning resolves mode names to the component's eigenfrequencies and rejects protocols that
 cannot be run as described (:class:`motoflex_ros.errors.ProtocolError`): a ramp too fast for
 the first mode, a frequency at or above the sensor's Nyquist rate, a sweep that does not end
-below the first eigenfrequency.
+below the first eigenfrequency. Each message starts with the protocol's file and the dotted key
+to change, as a ConfigError's does.
 """
 import math
 from dataclasses import dataclass
@@ -18,7 +19,7 @@ from motoflex_ros.errors import ProtocolError
 MAX_ROTATION_RAD = 0.05  # [rad] largest end rotation of a test: small, linear deformation
 
 __all__ = ["TestPlan", "CampaignPlan", "plan_campaign", "sweep_frequencies", "onset_times",
-           "matched_amplitude", "check_linear", "MAX_ROTATION_RAD"]
+           "matched_amplitude", "check_linear", "protocol_error", "MAX_ROTATION_RAD"]
 
 
 @dataclass(frozen=True)
@@ -26,7 +27,8 @@ class TestPlan:
     """One test. kind: 'static', 'harmonic', 'sweep' or 'decay'. rate_hz [Hz] sample rate,
     max_samples the longest it may run, amplitude_n [N] (F_st, amplitude or preload),
     frequency_hz [Hz] (harmonic), ramp_time_s [s] (static), onset_time_s [s] (load envelope) and
-    read_time_s [s] (peaks read after it) of harmonic tests."""
+    read_time_s [s] (peaks read after it) of harmonic tests; ``key`` the protocol's dotted key
+    of the test's load (static.force_n, harmonic.tests[i].amplitude_n...)."""
 
     name: str
     kind: str
@@ -37,6 +39,7 @@ class TestPlan:
     ramp_time_s: float = 0.0
     onset_time_s: float = 0.0
     read_time_s: float = 0.0
+    key: str = ""
 
 
 @dataclass(frozen=True)
@@ -52,30 +55,41 @@ class CampaignPlan:
         return next(t for t in self.tests if t.name == name)
 
 
-def _check_rate(name, frequency, sensor):
+def protocol_error(protocol, key, problem):
+    """ProtocolError '<protocol file>: key '<dotted key>': <problem>' (as a ConfigError reads)."""
+    return ProtocolError(f"{protocol.source or 'protocol'}: key '{key}': {problem}")
+
+
+def _check_rate(name, frequency, protocol, key):
+    sensor = protocol.sensor
     if frequency >= sensor.nyquist_hz:
-        raise ProtocolError(f"test '{name}': frequency {frequency:.6g} Hz is at or above the "
-                            f"Nyquist rate {sensor.nyquist_hz:.6g} Hz of the sensor "
-                            f"(max_rate_hz {sensor.max_rate_hz:.6g})")
+        raise protocol_error(protocol, key, f"test '{name}': frequency {frequency:.6g} Hz is at "
+                                            f"or above the Nyquist rate {sensor.nyquist_hz:.6g}"
+                                            f" Hz of the sensor (sensor.max_rate_hz "
+                                            f"{sensor.max_rate_hz:.6g})")
 
 
 def _static(protocol, modes):
     s = protocol.static
     f1 = modes.first_lateral().f_hz
     if s.ramp_time_s * f1 < s.min_ramp_periods:
-        raise ProtocolError(
-            f"static test: ramp_time_s {s.ramp_time_s:g} s is shorter than min_ramp_periods "
+        raise protocol_error(
+            protocol, "static.ramp_time_s",
+            f"ramp_time_s {s.ramp_time_s:g} s is shorter than min_ramp_periods "
             f"{s.min_ramp_periods:g} periods of the first mode ({f1:.4g} Hz), i.e. "
             f"{s.min_ramp_periods / f1:.4g} s; the ramp would excite the dynamics")
     if s.sample_rate_hz > protocol.sensor.max_rate_hz:
-        raise ProtocolError(f"static test: sample_rate_hz {s.sample_rate_hz:g} exceeds the "
-                            f"sensor's max_rate_hz {protocol.sensor.max_rate_hz:g}")
+        raise protocol_error(protocol, "static.sample_rate_hz",
+                             f"sample_rate_hz {s.sample_rate_hz:g} exceeds the sensor's "
+                             f"max_rate_hz {protocol.sensor.max_rate_hz:g}")
     if round(s.hold_time_s * s.sample_rate_hz) < 10:
-        raise ProtocolError(f"static test: hold_time_s {s.hold_time_s:g} s gives fewer than 10 "
-                            f"samples at {s.sample_rate_hz:g} Hz to read at the maximum")
+        raise protocol_error(protocol, "static.hold_time_s",
+                             f"hold_time_s {s.hold_time_s:g} s gives fewer than 10 samples at "
+                             f"{s.sample_rate_hz:g} Hz to read at the maximum")
     n = round((s.ramp_time_s + s.hold_time_s) * s.sample_rate_hz) + 1
     return TestPlan("static", "static", s.sample_rate_hz, n, s.force_n,
-                    ramp_time_s=round(s.ramp_time_s * s.sample_rate_hz) / s.sample_rate_hz)
+                    ramp_time_s=round(s.ramp_time_s * s.sample_rate_hz) / s.sample_rate_hz,
+                    key="static.force_n")
 
 
 def onset_times(frequency, settings, modes):
@@ -103,25 +117,34 @@ def onset_times(frequency, settings, modes):
     return envelope, envelope + math.ceil(wait * frequency - 1e-9) / frequency
 
 
-def _harmonic(name, kind, frequency, amplitude, protocol, modes):
-    _check_rate(name, frequency, protocol.sensor)
+def _harmonic(name, kind, frequency, amplitude, protocol, modes, keys):
+    """TestPlan of a harmonic test; keys: the protocol keys of its frequency and amplitude."""
+    _check_rate(name, frequency, protocol, keys[0])
     h = protocol.harmonic
     rate = min(h.samples_per_period * frequency, protocol.sensor.max_rate_hz)
     onset, read = onset_times(frequency, h, modes)
     n = int(math.ceil((read + h.max_periods / frequency) * rate)) + 1
     return TestPlan(name, kind, rate, n, amplitude, frequency_hz=frequency, onset_time_s=onset,
-                    read_time_s=read)
+                    read_time_s=read, key=keys[1])
 
 
-def sweep_frequencies(sweep, first_hz):
-    """Sweep frequencies [Hz]: start_hz, start_hz + step_hz, ... and the end frequency."""
+def _sweep_end_key(sweep):
+    """The protocol key that sets where the sweep ends."""
+    return "sweep.end_hz" if sweep.end_hz is not None else "sweep.end_below_first_hz"
+
+
+def sweep_frequencies(protocol, first_hz):
+    """Sweep frequencies [Hz] of the protocol's sweep: start_hz, start_hz + step_hz, ... and
+    the end frequency (end_hz, or end_below_first_hz below the first eigenfrequency [Hz])."""
+    sweep = protocol.sweep
     end = sweep.end_hz if sweep.end_hz is not None else first_hz - sweep.end_below_first_hz
+    key = _sweep_end_key(sweep)
     if end >= first_hz:
-        raise ProtocolError(f"sweep: ends at {end:.6g} Hz, which is not below the first "
-                            f"eigenfrequency {first_hz:.6g} Hz")
+        raise protocol_error(protocol, key, f"the sweep ends at {end:.6g} Hz, which is not "
+                                            f"below the first eigenfrequency {first_hz:.6g} Hz")
     if end < sweep.start_hz:
-        raise ProtocolError(f"sweep: ends at {end:.6g} Hz, below its start_hz "
-                            f"{sweep.start_hz:g} Hz")
+        raise protocol_error(protocol, key, f"the sweep ends at {end:.6g} Hz, below its "
+                                            f"start_hz {sweep.start_hz:g} Hz")
     freqs = list(np.arange(sweep.start_hz, end - 1e-9 * end, sweep.step_hz))
     return tuple(float(f) for f in freqs) + (float(end),)
 
@@ -130,10 +153,10 @@ def _decay(protocol, modes):
     m = protocol.modal
     targets = [modes.first(label).f_hz for label in ("torsion", "bending")]
     f_low, f_high = min(targets), max(targets)
-    _check_rate("modal", f_high, protocol.sensor)
+    _check_rate("modal", f_high, protocol, "sensor.max_rate_hz")
     rate = min(m.samples_per_period * f_high, protocol.sensor.max_rate_hz)
     n = int(math.ceil(m.decay_periods * rate / f_low)) + 2
-    return TestPlan("decay", "decay", rate, n, m.preload_n)
+    return TestPlan("decay", "decay", rate, n, m.preload_n, key="modal.preload_n")
 
 
 def _deformation_size(end_motion, length):
@@ -152,7 +175,7 @@ def matched_amplitude(reduced, frequency, static_force):
     return _deformation_size(static, length) / _deformation_size(dynamic, length)
 
 
-def check_linear(plan, reduced):
+def check_linear(plan, reduced, protocol):
     """ProtocolError when a test's peak end rotation exceeds MAX_ROTATION_RAD (not small)."""
     load = np.zeros(reduced.K.shape[0])
     load[reduced.end_dofs[1]] = plan.amplitude_n
@@ -162,7 +185,8 @@ def check_linear(plan, reduced):
         motion = harmonic_peak_motion(reduced, plan.frequency_hz, plan.amplitude_n)
     rotation = float(np.linalg.norm(motion[3:]))
     if rotation > MAX_ROTATION_RAD:
-        raise ProtocolError(
+        raise protocol_error(
+            protocol, plan.key,
             f"test '{plan.name}': the load {plan.amplitude_n:.4g} N turns the loaded end by "
             f"{rotation:.3g} rad (> {MAX_ROTATION_RAD} rad); the deformation would not stay "
             f"small and linear, lower the load")
@@ -175,18 +199,21 @@ def plan_campaign(protocol, reduced, modes=None):
     """
     modes = modes if modes is not None else clamped_modes(reduced)
     tests = [_static(protocol, modes)]
-    for t in protocol.harmonic_tests:
+    for i, t in enumerate(protocol.harmonic_tests):
         freq = modes.frequency(t.frequency) if isinstance(t.frequency, str) else t.frequency
         amp = t.amplitude_n
         if amp == MATCH_STATIC:
             amp = matched_amplitude(reduced, freq, protocol.static.force_n)
-        tests.append(_harmonic(t.name, "harmonic", freq, amp, protocol, modes))
+        key = f"harmonic.tests[{i}]"
+        tests.append(_harmonic(t.name, "harmonic", freq, amp, protocol, modes,
+                               (f"{key}.frequency", f"{key}.amplitude_n")))
     if protocol.sweep is not None:
-        for i, f in enumerate(sweep_frequencies(protocol.sweep, modes.first_lateral().f_hz)):
+        keys = (_sweep_end_key(protocol.sweep), "sweep.amplitude_n")
+        for i, f in enumerate(sweep_frequencies(protocol, modes.first_lateral().f_hz)):
             tests.append(_harmonic(f"sweep_{i:02d}", "sweep", f, protocol.sweep.amplitude_n,
-                                   protocol, modes))
+                                   protocol, modes, keys))
     if protocol.modal is not None:
         tests.append(_decay(protocol, modes))
     for plan in tests:
-        check_linear(plan, reduced)
+        check_linear(plan, reduced, protocol)
     return CampaignPlan(tuple(tests), protocol, modes)

@@ -3,16 +3,19 @@
 A protocol file describes one bench campaign (Passigato et al. 2023, Sect. 4.2): the sensor,
 the quasi-static test (slow ramp to F_st, hold, read at the maximum), harmonic tests at fixed
 frequencies (a number [Hz] or ``first torsion`` / ``first bending`` / ``first``, resolved from
-the component's modes), the frequency sweep (harmonic tests from ``start_hz`` to 5 Hz below the
-first eigenfrequency) and the modal test (release from a static preload, free decay). Every
-force is an amplitude at the loaded end [N]; choose it so that the deformation stays small
-(linear), as the paper does. Checks that need the component (ramp slow enough, frequencies
-below the sensor's Nyquist rate, sweep ending below the first eigenfrequency) are made when the
-protocol is planned for a component (:mod:`motoflex_ros.bench.plan`).
+the component's modes; two of them named ``torsion`` and ``bending`` for the identification's
+models, others are extra tests), the frequency sweep (harmonic tests from ``start_hz`` to 5 Hz
+below the first eigenfrequency) and the modal test (release from a static preload, free
+decay). Every force is an amplitude at the loaded end [N]; choose it so that the deformation
+stays small (linear), as the paper does. Checks that need the component (ramp slow enough,
+frequencies below the sensor's Nyquist rate, sweep ending below the first eigenfrequency) are
+made when the protocol is planned for a component (:mod:`motoflex_ros.bench.plan`).
 """
 from dataclasses import dataclass
 
-from motoflex_ros.bench.sensor import DEFAULT_MARKERS, SensorSettings
+import numpy as np
+
+from motoflex_ros.bench.sensor import DEFAULT_MARKERS, MAX_NOISE_M, SensorSettings
 from motoflex_ros.config import (
     Field,
     load_config,
@@ -23,16 +26,33 @@ from motoflex_ros.config import (
     validate,
 )
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.identify.results import MODEL_TESTS, RESULT_KEYS
 
 __all__ = ["StaticTest", "HarmonicSettings", "HarmonicTest", "SweepTest", "ModalTest",
            "Protocol", "load_protocol", "protocol_for", "PROTOCOL_SCHEMA", "MODE_FREQUENCIES",
-           "MATCH_STATIC"]
+           "MATCH_STATIC", "REQUIRED_HARMONIC_TESTS", "RESERVED_TEST_NAMES",
+           "MIN_MARKER_SPREAD_M"]
 
 MODE_FREQUENCIES = ("first", "first torsion", "first bending")
 MATCH_STATIC = "match_static"
+REQUIRED_HARMONIC_TESTS = tuple(t for t in MODEL_TESTS if t != "static")
+"""Harmonic tests every protocol has: the identification's torsion and bending models."""
+RESERVED_TEST_NAMES = ("static", "decay") + RESULT_KEYS
+"""Names a harmonic test may not have: the plan's own tests (static, decay; the sweep's are
+sweep_00, sweep_01...) and the keys of the results; nor may a name start with 'sweep'."""
+MIN_MARKER_SPREAD_M = 1e-3
+"""Smallest second singular value [m] of the centred marker offsets (their spread across the
+line that fits them best). Below it the markers lie (nearly) on a line and the rotation about
+that line is not observed: collinear or coincident markers have a spread at round-off level
+(~1e-17 m). The fit's rotation about the line scatters by about noise_m / spread per frame:
+5 mrad at the shipped 5 um noise and a 1 mm spread, more than the smallest end rotation of a
+shipped test (0.8 mrad, the swingarm's static test), so a smaller spread can only give noise.
+It is a lower bound, not a guarantee: with 5 um noise the swingarm's torsion k is 19 % off at a
+12 mm spread and 6 % off at 36 mm (the shipped markers: 184 mm)."""
 
 _SENSOR = Field("mapping", required=False, default=None, fields={
-    "noise_m": number(0.0, required=False, default=5e-6, help="noise std [m] >= 0"),
+    "noise_m": number(0.0, MAX_NOISE_M, required=False, default=5e-6,
+                      help=f"noise std [m] in [0, {MAX_NOISE_M:g}]"),
     "resolution_m": number(0.0, required=False, default=1e-7, help="resolution [m] >= 0"),
     "max_rate_hz": positive(required=False, default=5000.0, help="maximum frame rate [Hz]"),
     "latency_s": number(0.0, 1.0, required=False, default=0.001, help="latency [s]"),
@@ -64,7 +84,8 @@ _HARMONIC = Field("mapping", fields={
     "band_angle_rad": positive(help="tolerance band of the running mean of beta [rad] > 0"),
     "settle_peaks": Field("int", 2, 10000, help="peaks the mean must stay in the band"),
     "max_periods": number(1.0, help="maximum periods read after the onset, >= 1"),
-    "tests": Field("list", item=_HARMONIC_TEST, required=False, default=[]),
+    "tests": Field("list", item=_HARMONIC_TEST,
+                   help="harmonic tests; torsion and bending required"),
 })
 _SWEEP = Field("mapping", required=False, default=None, fields={
     "amplitude_n": positive(help="force amplitude [N] > 0"),
@@ -177,10 +198,26 @@ def _check_frequency(value, source, key):
     return validate(value, positive(), source, key)
 
 
-def _sensor(data):
+def _check_markers(markers, source, key):
+    """Marker offsets [m] whose centred positions span a plane (second singular value at least
+    :data:`MIN_MARKER_SPREAD_M`), so that the rigid fit observes every rotation."""
+    offsets = np.asarray(markers, float)
+    spread = np.linalg.svd(offsets - offsets.mean(axis=0), compute_uv=False)[1]
+    if spread < MIN_MARKER_SPREAD_M:
+        raise ConfigError(source, key, f"the markers are collinear or coincident (second "
+                                       f"singular value of the centred offsets {spread:.3g} m, "
+                                       f"allowed >= {MIN_MARKER_SPREAD_M:g} m); the rotation "
+                                       f"about their line cannot be measured: place at least "
+                                       f"three markers that span a plane")
+    return tuple(tuple(m) for m in markers)
+
+
+def _sensor(data, source):
     if data is None:
         return SensorSettings()
-    markers = tuple(tuple(m) for m in data["markers"]) if data["markers"] else DEFAULT_MARKERS
+    markers = DEFAULT_MARKERS
+    if data["markers"]:
+        markers = _check_markers(data["markers"], source, "sensor.markers")
     return SensorSettings(noise_m=data["noise_m"], resolution_m=data["resolution_m"],
                           max_rate_hz=data["max_rate_hz"], latency_s=data["latency_s"],
                           markers=markers)
@@ -195,21 +232,47 @@ def _sweep(data, source):
     return SweepTest(**data)
 
 
+def _check_test_name(name, source, key):
+    """A harmonic test name that is not one of :data:`RESERVED_TEST_NAMES` nor sweep*."""
+    if name in RESERVED_TEST_NAMES or name.startswith("sweep"):
+        raise ConfigError(source, key, f"'{name}' is reserved (not allowed: "
+                                       f"{', '.join(RESERVED_TEST_NAMES)} or a name starting "
+                                       f"with 'sweep'); the identification needs "
+                                       f"{' and '.join(REQUIRED_HARMONIC_TESTS)}, other names "
+                                       f"are extra tests")
+    return name
+
+
+def _harmonic_tests(specs, source):
+    """HarmonicTests of harmonic.tests: unique names, torsion and bending among them."""
+    tests = []
+    for i, t in enumerate(specs):
+        key = f"harmonic.tests[{i}]"
+        name = _check_test_name(t["name"], source, f"{key}.name")
+        freq = _check_frequency(t["frequency"], source, f"{key}.frequency")
+        amp = _check_amplitude(t["amplitude_n"], source, f"{key}.amplitude_n")
+        tests.append(HarmonicTest(name, freq, amp))
+    names = [t.name for t in tests]
+    if len(set(names)) != len(names):
+        raise ConfigError(source, "harmonic.tests", f"test names must be unique, got {names}")
+    missing = [n for n in REQUIRED_HARMONIC_TESTS if n not in names]
+    if missing:
+        raise ConfigError(source, "harmonic.tests", f"no test named {' or '.join(missing)} "
+                                                    f"(got {names or 'none'}); the "
+                                                    f"identification (eqs. 8-12) needs "
+                                                    f"harmonic tests named "
+                                                    f"{' and '.join(REQUIRED_HARMONIC_TESTS)}")
+    return tuple(tests)
+
+
 def load_protocol(name_or_file):
     """Load and validate a protocol (shipped name or YAML path) into a :class:`Protocol`."""
     path = resolve_config("protocols", name_or_file)
     data = load_config(path, PROTOCOL_SCHEMA)
     h = dict(data["harmonic"])
-    tests = []
-    for i, t in enumerate(h.pop("tests")):
-        freq = _check_frequency(t["frequency"], path, f"harmonic.tests[{i}].frequency")
-        amp = _check_amplitude(t["amplitude_n"], path, f"harmonic.tests[{i}].amplitude_n")
-        tests.append(HarmonicTest(t["name"], freq, amp))
-    names = [t.name for t in tests]
-    if len(set(names)) != len(names):
-        raise ConfigError(path, "harmonic.tests", f"test names must be unique, got {names}")
-    return Protocol(sensor=_sensor(data["sensor"]), static=StaticTest(**data["static"]),
-                    harmonic=HarmonicSettings(**h), harmonic_tests=tuple(tests),
+    tests = _harmonic_tests(h.pop("tests"), path)
+    return Protocol(sensor=_sensor(data["sensor"], path), static=StaticTest(**data["static"]),
+                    harmonic=HarmonicSettings(**h), harmonic_tests=tests,
                     sweep=_sweep(data["sweep"], path),
                     modal=ModalTest(**data["modal"]) if data["modal"] else None,
                     description=data["description"], source=str(path))

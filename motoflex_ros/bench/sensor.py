@@ -19,11 +19,22 @@ import numpy as np
 from motoflex_ros.spatial import rotation_vector
 
 __all__ = ["SensorSettings", "Measurement", "MarkerSensor", "fit_pose", "marker_positions",
-           "DEFAULT_MARKERS"]
+           "DEFAULT_MARKERS", "MAX_NOISE_M", "MAX_SEED"]
 
 # four non-coplanar markers on a plate of 0.15 m radius around the loaded end [m]
 DEFAULT_MARKERS = ((0.15, 0.0, 0.0), (-0.075, 0.13, 0.0), (-0.075, -0.13, 0.0),
                    (0.0, 0.0, 0.15))
+
+MAX_NOISE_M = 1e-3
+"""Largest sensor noise [m] (standard deviation per coordinate) a protocol or an override may
+give. The largest loaded-end displacement of the shipped protocols is 1.29 mm (the frame's
+modal preload; its markers move by up to 1.9 mm, the front assembly's by 2.1 mm); static
+deflections are 0.19-0.43 mm and harmonic amplitudes 0.08-0.68 mm. A noise above 1 mm exceeds
+every static and harmonic deformation and is of the order of the largest one: the sensor would
+see only noise. (Already at 1 mm the harmonic models are mostly noise: the bound refuses what
+is meaningless, it does not promise accuracy below it.)"""
+MAX_SEED = 2**31 - 1
+"""Largest seed of the sensor noise (numpy takes any integer >= 0; ROS parameters are int32)."""
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ import json
 import time
 from pathlib import Path
 
-from motoflex_ros.cli.inputs import noise_argument
+from motoflex_ros.cli.inputs import noise_argument, seed_argument
 from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
@@ -28,8 +28,10 @@ def register(subparsers):
     p.add_argument("--protocol", metavar="FILE", help="protocol YAML (default: each "
                    "component's shipped protocol)")
     p.add_argument("--noise", type=noise_argument, metavar="SIGMA",
-                   help="sensor noise standard deviation [m], in [0, 1] (overrides the protocol)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the sensor noise (default 0)")
+                   help="sensor noise standard deviation [m], in [0, 1e-3] (overrides the "
+                        "protocol)")
+    p.add_argument("--seed", type=seed_argument, default=0,
+                   help="seed of the sensor noise, a whole number >= 0 (default 0)")
     p.add_argument("--out", metavar="DIR", help="bag directory to create (default "
                    "bags/campaign_<UTC time>)")
     p.add_argument("--json", action="store_true", help="print the results as JSON only")

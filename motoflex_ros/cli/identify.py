@@ -12,7 +12,7 @@ from pathlib import Path
 
 import yaml
 
-from motoflex_ros.cli.inputs import noise_argument
+from motoflex_ros.cli.inputs import noise_argument, seed_argument
 from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table, to_jsonable
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
@@ -34,8 +34,10 @@ def register(subparsers):
     p.add_argument("--protocol", metavar="FILE",
                    help="protocol YAML (default: the component's shipped protocol)")
     p.add_argument("--noise", type=noise_argument, metavar="SIGMA",
-                   help="sensor noise standard deviation [m], in [0, 1] (overrides the protocol)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the sensor noise (default 0)")
+                   help="sensor noise standard deviation [m], in [0, 1e-3] (overrides the "
+                        "protocol)")
+    p.add_argument("--seed", type=seed_argument, default=0,
+                   help="seed of the sensor noise, a whole number >= 0 (default 0)")
     p.add_argument("--out", metavar="FILE", help="write the results (.yaml/.yml or .json)")
     p.add_argument("--json", action="store_true", help="print the results as JSON only")
     p.add_argument("--plot", metavar="DIR", help="write the Figs. 5-7 axis plots to DIR")

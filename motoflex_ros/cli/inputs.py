@@ -9,7 +9,7 @@ from motoflex_ros.config import MOTORCYCLE_COMPONENTS, load_yaml
 from motoflex_ros.errors import ConfigError
 
 __all__ = ["COMPONENTS", "identification_results", "motorcycle_components",
-           "add_study_inputs", "study_speeds", "noise_argument"]
+           "add_study_inputs", "study_speeds", "noise_argument", "seed_argument"]
 
 COMPONENTS = MOTORCYCLE_COMPONENTS
 
@@ -57,7 +57,7 @@ def study_speeds(step_kmh, max_step_kmh):
 
 
 def noise_argument(text):
-    """Type of --noise for argparse: a sensor-noise standard deviation [m] in [0, 1]."""
+    """Type of --noise for argparse: a sensor-noise standard deviation [m] in [0, 1e-3]."""
     import argparse
 
     from motoflex_ros.bench.campaign import checked_noise
@@ -65,3 +65,18 @@ def noise_argument(text):
         return checked_noise(float(text), "command line", "--noise")
     except ValueError as exc:  # ConfigError is a ValueError; so is float('abc')
         raise argparse.ArgumentTypeError(getattr(exc, "problem", str(exc))) from None
+
+
+def seed_argument(text):
+    """Type of --seed for argparse: a seed of the sensor noise, a whole number >= 0."""
+    import argparse
+
+    from motoflex_ros.bench.campaign import checked_seed
+    try:
+        value = int(text)
+    except ValueError:
+        value = text
+    try:
+        return checked_seed(value, "command line", "--seed")
+    except ConfigError as exc:
+        raise argparse.ArgumentTypeError(exc.problem) from None

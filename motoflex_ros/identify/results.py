@@ -21,7 +21,15 @@ from motoflex_ros.identify.stiffness import modal_damping, modal_inertia, static
 from motoflex_ros.identify.uncertainty import LEVEL, interval, propagate
 
 __all__ = ["AxisModel", "ComponentIdentification", "identify_component", "static_model",
-           "ResultsFile", "results_source"]
+           "ResultsFile", "results_source", "MODEL_TESTS", "RESULT_KEYS"]
+
+MODEL_TESTS = ("static", "torsion", "bending")
+"""Tests the identification needs, by name: eqs. (8)-(12) use the static test and the harmonic
+tests named 'torsion' and 'bending'."""
+RESULT_KEYS = ("k_t", "k_b", "split_identifiable", "split_problem", "ci", "sweep", "modal")
+"""Keys of :meth:`ComponentIdentification.to_dict` besides the tests' own (:data:`MODEL_TESTS`
+and the other harmonic tests, by name): no test may be called like one of them."""
+
 
 
 class ResultsFile(dict):
@@ -181,9 +189,24 @@ def _modal(modes, decay):
     return out
 
 
+def _check_positive_k(name, test, model):
+    """ProtocolError unless the model's k (eq. 8) is a positive finite stiffness [N m/rad]."""
+    k, bounds = model["k"], model.ci["k"]
+    if not (np.isfinite(k) and k > 0.0):
+        raise ProtocolError(
+            f"{name}: the {test} model gives k = {k:.4g} N m/rad (95 % interval "
+            f"[{bounds[0]:.4g}, {bounds[1]:.4g}]), not a positive stiffness (eq. 8): the "
+            f"measured deflection is lost in the sensor noise; lower sensor.noise_m (--noise) "
+            f"or raise the load")
+
+
 def identify_component(name, readings, modes, q0):
-    """ComponentIdentification from the readings of a campaign (by test name) and the modes."""
-    missing = [t for t in ("static", "torsion", "bending") if t not in readings]
+    """ComponentIdentification from the readings of a campaign (by test name) and the modes.
+
+    ProtocolError when a test is missing, has too few peaks, or gives a k (eq. 8) that is not
+    positive (a deflection lost in the sensor noise is no identification result).
+    """
+    missing = [t for t in MODEL_TESTS if t not in readings]
     if missing:
         raise ProtocolError(f"{name}: the campaign has no {', '.join(missing)} test; eqs. "
                             f"(8)-(12) need the static test and harmonic tests named 'torsion' "
@@ -193,9 +216,11 @@ def identify_component(name, readings, modes, q0):
         raise ProtocolError(f"{name}: fewer than 2 peaks read in {', '.join(empty)}; "
                             f"raise harmonic.max_periods")
     static, static_cov = static_model(readings["static"], q0)
+    _check_positive_k(name, "static", static)
     models = {}
     for label in ("torsion", "bending"):
         models[label] = _mode_model(readings[label], readings["static"], modes.first(label))
+        _check_positive_k(name, label, models[label][0])
     split = _split(static.values, static_cov, models["torsion"][0].values, models["torsion"][1],
                    models["bending"][0].values, models["bending"][1])
     sweep, others = [], {}

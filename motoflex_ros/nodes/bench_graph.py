@@ -9,6 +9,7 @@ The phase message ends a component's campaign with an end marker.
 """
 from collections import deque
 
+from motoflex_ros.bench.sensor import MAX_NOISE_M, MAX_SEED
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.nodes.params import Param
 
@@ -19,8 +20,9 @@ COMPONENTS = MOTORCYCLE_COMPONENTS
 BENCH_PARAMS = (
     Param("components", COMPONENTS, description="components, in campaign order"),
     Param("protocol", "", description="protocol name or file ('': each component's own)"),
-    Param("noise", -1.0, -1.0, 1.0, description="sensor noise std [m] (-1: the protocol's)"),
-    Param("seed", 0, 0, 2**31 - 1, description="seed of the sensor noise"),
+    Param("noise", -1.0, -1.0, MAX_NOISE_M,
+          description="sensor noise std [m] (-1: the protocol's)"),
+    Param("seed", 0, 0, MAX_SEED, description="seed of the sensor noise"),
 )
 
 

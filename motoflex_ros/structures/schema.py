@@ -11,6 +11,7 @@ from motoflex_ros.config import Field, angle, load_yaml, positive, validate
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.structures.assembly import Structure
 from motoflex_ros.structures.beam import Material, rectangular_tube_section, tube_section
+from motoflex_ros.vehicle.model import check_inertia
 
 __all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "load_component_config", "structure_from_config"]
 
@@ -178,11 +179,31 @@ def _add_joints_and_parts(s, cfg, names, source):
     for part_name, part in cfg["rigid_parts"].items():
         key = f"rigid_parts.{part_name}"
         node = _lookup(names, part["node"], source, f"{key}.node", "node")
-        s.add_part(node, part["mass"], np.diag(part["inertia"]), part["cg"])
+        inertia = np.diag(part["inertia"])
+        check_inertia(inertia, source, f"{key}.inertia")
+        s.add_part(node, part["mass"], inertia, part["cg"])
+
+
+def _check_nodes_connected(cfg, source):
+    """ConfigError naming the first node that no member, spring or rigid link holds.
+
+    Such a node has no stiffness: the interior stiffness would be singular (Craig-Bampton),
+    or, for an interface node, its motion undetermined. A rigid part on it adds only mass.
+    """
+    held = {end for item in cfg["members"] + cfg["springs"] for end in (item["from"],
+                                                                         item["to"])}
+    held |= {link[end] for link in cfg["rigid_links"] for end in ("master", "slave")}
+    for name in cfg["nodes"]:
+        if name not in held:
+            raise ConfigError(source, f"nodes.{name}", "the node is not connected: no member, "
+                                                       "spring or rigid link uses it (a rigid "
+                                                       "part adds only mass); connect it or "
+                                                       "remove it")
 
 
 def structure_from_config(cfg, source, component_cls):
     """Build a Component (``component_cls``) from a validated structure configuration."""
+    _check_nodes_connected(cfg, source)
     s = Structure()
     names = {name: s.add_node(xyz) for name, xyz in cfg["nodes"].items()}
     _add_members(s, cfg, names, source)
