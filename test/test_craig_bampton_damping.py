@@ -8,10 +8,16 @@ reduced model (computed here by scipy's eig of the first-order form, not by the 
 import numpy as np
 import pytest
 import scipy.linalg as sla
+import yaml
 
-from motoflex_ros.errors import ModelError
+from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.structures.components import load_component
 from motoflex_ros.structures.craig_bampton import checked_damping_ratio
+
+TUBE = {"component": "tube",
+        "tube": {"length": 0.6, "outer_diameter": 0.04, "wall_thickness": 0.002,
+                 "pitch_deg": 20.0},
+        "material": {"E": 2.1e11, "G": 8.1e10, "rho": 7850}, "elements": 20}
 
 
 def _damping_of_eigenvalues(reduced):
@@ -26,6 +32,12 @@ def _damping_of_eigenvalues(reduced):
     return np.abs(lam), -lam.real / np.abs(lam)
 
 
+def _write(tmp_path, **extra):
+    path = tmp_path / "tube.yaml"
+    path.write_text(yaml.safe_dump({**TUBE, **extra}))
+    return path
+
+
 def test_per_mode_damping_ratio_in_clamped_eigenvalues_analytic():
     component = load_component("front_assembly")
     n = len(component.clamped_reduced().frequencies_hz)
@@ -35,6 +47,36 @@ def test_per_mode_damping_ratio_in_clamped_eigenvalues_analytic():
     assert len(zeta) == n
     np.testing.assert_allclose(zeta, ratios, rtol=1e-8)
     np.testing.assert_allclose(omega, 2 * np.pi * reduced.frequencies_hz, rtol=1e-8)
+
+
+def test_damping_ratio_key_roundtrip(tmp_path):
+    """A list in the file gives each mode its ratio; a number gives all modes one; without the
+    key the default is 1 %."""
+    default = load_component(str(_write(tmp_path))).clamped_reduced(f_max_hz=5000.0)
+    n = len(default.frequencies_hz)
+    np.testing.assert_allclose(_damping_of_eigenvalues(default)[1], 0.01, rtol=1e-8)
+    ratios = [round(0.003 * (i + 1), 6) for i in range(n)]
+    listed = load_component(str(_write(tmp_path, damping_ratio=ratios)))
+    np.testing.assert_allclose(
+        _damping_of_eigenvalues(listed.clamped_reduced(f_max_hz=5000.0))[1], ratios, rtol=1e-8)
+    scalar = load_component(str(_write(tmp_path, damping_ratio=0.035)))
+    np.testing.assert_allclose(
+        _damping_of_eigenvalues(scalar.clamped_reduced(f_max_hz=5000.0))[1], 0.035, rtol=1e-8)
+
+
+@pytest.mark.parametrize("value", [1.0, -0.01, float("nan"), "high", [], [0.01, 1.5], {"a": 1}])
+def test_bad_damping_ratio_names_key(tmp_path, value):
+    with pytest.raises(ConfigError) as err:
+        load_component(str(_write(tmp_path, damping_ratio=value)))
+    assert "damping_ratio" in str(err.value) and "tube.yaml" in str(err.value)
+
+
+def test_damping_ratio_list_of_wrong_length_names_key_and_count(tmp_path):
+    component = load_component(str(_write(tmp_path, damping_ratio=[0.01, 0.02])))
+    with pytest.raises(ConfigError) as err:
+        component.clamped_reduced()
+    assert "damping_ratio" in str(err.value) and "2 values" in str(err.value)
+    assert "6 modes" in str(err.value)  # the tube keeps no mode below 600 Hz: 6 end DOFs
 
 
 @pytest.mark.parametrize("value", [1.0, -0.1, [], [[0.01]], float("inf")])

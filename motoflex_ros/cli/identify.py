@@ -69,10 +69,29 @@ def _table(results, stream=None):
                          format_interval(comp["ci"].get(key)), ""])
     print_table(["component", "test", "l [m]", "beta [rad]", "b [m]", "k [N m/rad]",
                  "k 95 % interval", "f [Hz]"], rows, stream)
+    _modal_table(results, stream)
     for name, comp in results.items():
         if comp.get("split_identifiable") is False:
             stream.write(f"warning: {name}: k_t, k_b not identifiable: "
                          f"{comp['split_problem']}\n")
+
+
+def _modal_table(results, stream):
+    """Eigenvalue (eq. 9) beside the free decay's omega_n, zeta and their 95 % intervals."""
+    rows = []
+    for name, comp in results.items():
+        for label in ("torsion", "bending"):
+            m = comp.get("modal", {}).get(label)
+            if m is None:
+                continue
+            ci = m.get("ci", {})
+            rows.append([name, label, f"{m['omega_n']:.6g}", _number(m["omega_n_decay"], ".6g"),
+                         format_interval(ci.get("omega_n_decay"), ".6g"), f"{m['zeta']:.4g}",
+                         _number(m["zeta_decay"]), format_interval(ci.get("zeta_decay"))])
+    if rows:
+        stream.write("\n")
+        print_table(["component", "mode", "omega_n [rad/s]", "decay", "95 % interval",
+                     "zeta", "decay", "95 % interval"], rows, stream)
 
 
 def write_results(path, results):

@@ -31,7 +31,6 @@ RESULT_KEYS = ("k_t", "k_b", "split_identifiable", "split_problem", "ci", "sweep
 and the other harmonic tests, by name): no test may be called like one of them."""
 
 
-
 class ResultsFile(dict):
     """Identification results ({component: result dict}) that remember where they came from,
     so that an error about a value can name the file."""
@@ -177,6 +176,17 @@ def _split(static, static_cov, torsion, torsion_cov, bending, bending_cov):
                      {"split_identifiable": problem is None, "split_problem": problem})
 
 
+def _decay_interval(pole):
+    """95 % intervals of omega_n_decay [rad/s] and zeta_decay [-] (residual bootstrap of the
+    free decay, :mod:`motoflex_ros.identify.decay`); NaN when undefined (pole not found again
+    in half of the replicas, or not found at all)."""
+    nan = [float("nan")] * 2
+    return {"omega_n_decay": list(pole.omega_n_ci) if pole else nan,
+            "zeta_decay": list(pole.zeta_ci) if pole else nan, "level": LEVEL,
+            "n_bootstrap": pole.n_bootstrap if pole else 0,
+            "n_bootstrap_found": pole.n_found if pole else 0}
+
+
 def _modal(modes, decay):
     out = {}
     for label in ("torsion", "bending"):
@@ -184,7 +194,8 @@ def _modal(modes, decay):
         pole = match_pole(list(decay.poles), mode.omega_n) if decay else None
         out[label] = {"f_hz": mode.f_hz, "omega_n": mode.omega_n, "zeta": mode.zeta,
                       "omega_n_decay": pole.omega_n if pole else None,
-                      "zeta_decay": pole.zeta if pole else None}
+                      "zeta_decay": pole.zeta if pole else None,
+                      "ci": _decay_interval(pole)}
     out["n_samples_decay"] = decay.n_samples if decay else 0
     return out
 

@@ -21,9 +21,14 @@ _MATERIAL = Field("mapping", fields={
     "rho": positive(help="density > 0 [kg/m^3]"),
 })
 
+# modal damping ratio of the clamped reduced model: checked by components.damping_ratio_setting
+_DAMPING = Field("any", required=False, default=None,
+                 help="a number in [0, 1) or a list of them, one per mode")
+
 TUBE_SCHEMA = Field("mapping", fields={
     "component": Field("str", choices=("tube",)),
     "description": Field("str", required=False, default=""),
+    "damping_ratio": _DAMPING,
     "tube": Field("mapping", fields={
         "length": positive(help="length > 0 [m]"),
         "outer_diameter": positive(help="outer diameter > 0 [m]"),
@@ -46,6 +51,7 @@ _NONNEG3 = Field("vec3", 0.0)
 STRUCTURE_SCHEMA = Field("mapping", fields={
     "component": Field("str"),
     "description": Field("str", required=False, default=""),
+    "damping_ratio": _DAMPING,
     "placement": Field("mapping", fields={"origin": Field("vec3")}),
     "materials": Field("mapping", extra=True, item=_MATERIAL, fields={}),
     "sections": Field("mapping", extra=True, item=_SECTION, fields={}),
