@@ -107,3 +107,39 @@ def test_nodes_points_cdr_roundtrip(n, frame_id):
                == (0.0, 0.0, 0.0, 1.0) for p in decoded.poses)
     stamp, back = conversions.points_from_cdr(ref)
     assert stamp == ns and np.array_equal(back, points)
+
+
+@pytest.mark.parametrize("frame_id", ["", "a", "frame_clamp", "swingarm_clamp", "abc"])
+def test_nodes_bench_cdr_roundtrip(frame_id):
+    """The phase, load and pose fast paths against rclpy's serializer, both ways: the same
+    length, our bytes decode to the message-object path's values, exactly, and our readers
+    decode rclpy's bytes."""
+    from geometry_msgs.msg import PoseStamped, WrenchStamped
+    from std_msgs.msg import String
+
+    from motoflex_ros.bench.actuator import LoadSample
+    ns, force = 1_234_567_890_123, -12.5e-3 / 3.0
+    ours = conversions.wrench_cdr(ns, frame_id, force)
+    ref = serialize_message(conversions.wrench_msg(ns, frame_id, force))
+    assert len(ours) == len(ref)
+    assert deserialize_message(ours, WrenchStamped) == deserialize_message(ref, WrenchStamped)
+    assert conversions.wrench_from_cdr(ref) == conversions.wrench_from_cdr(ours) == (ns, force)
+
+    rotation = Rotation.from_rotvec([1e-3, -2e-3, 0.5e-3]).as_matrix()
+    position = np.array([0.1, -0.2, 0.3]) / 7.0
+    ours = conversions.pose_cdr(ns, frame_id, position, rotation)
+    ref = serialize_message(conversions.pose_msg(ns, frame_id, position, rotation))
+    assert len(ours) == len(ref)
+    assert deserialize_message(ours, PoseStamped) == deserialize_message(ref, PoseStamped)
+
+    sample = LoadSample(7, 0.1 + 1 / 603.1802138593138, 1 / 603.1802138593138, force,
+                        f"sweep_03{frame_id}", "sweep", "steady", 104.0, False)
+    for ours, ref in [(conversions.phase_cdr(sample), conversions.phase_msg(sample)),
+                      (conversions.phase_cdr(end_ns=ns), conversions.phase_msg(end_ns=ns))]:
+        assert deserialize_message(ours, String) == ref
+        assert conversions.phase_text(serialize_message(ref)) == ref.data
+        assert conversions.sample_from_phase(ours, force) == \
+            conversions.sample_from_phase(ref, force)
+        assert conversions.is_end_marker(ours) == conversions.is_end_marker(ref)
+    assert conversions.sample_from_phase(conversions.phase_cdr(sample), force) == (sample, None)
+    assert conversions.is_end_marker(conversions.phase_cdr(end_ns=ns))

@@ -16,7 +16,7 @@ Load histories (F_y at the loaded end [N], t [s] from the test's start):
 Tests follow each other with a pause of ``PAUSE_S`` so that time keeps increasing.
 """
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass, fields
 
 __all__ = ["LoadSample", "LoadActuator", "test_forces", "PAUSE_S"]
 
@@ -39,8 +39,9 @@ class LoadSample:
     test_start: bool
 
     def to_dict(self):
-        """Plain dict (for messages and files)."""
-        return asdict(self)
+        """Plain dict (for messages and files; the fields are plain values, so no deep copy
+        as ``dataclasses.asdict`` makes: this runs once per sample of the graph)."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
 
     @classmethod
     def from_dict(cls, data):

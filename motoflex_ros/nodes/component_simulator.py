@@ -12,7 +12,12 @@ from std_msgs.msg import String
 
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
-from motoflex_ros.nodes.conversions import points_cdr, sample_from_phase, time_ns
+from motoflex_ros.nodes.conversions import (
+    is_end_marker,
+    points_cdr,
+    sample_from_phase,
+    wrench_from_cdr,
+)
 from motoflex_ros.nodes.runtime import RigNode, run_node
 
 __all__ = ["ComponentSimulatorNode", "main"]
@@ -33,9 +38,10 @@ class ComponentSimulatorNode(RigNode):
         for c in self.setups:
             self.pubs[c] = self.advertise(PoseArray, bench_topic(c, "markers/true"))
             join = SampleJoin("phase", ("load",), self._handler(c),
-                              needs=lambda head: () if "end_ns" in head.data else ("load",))
-            self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"))
-            self.subscribe(WrenchStamped, bench_topic(c, "load"), join.callback("load"))
+                              needs=lambda head: () if is_end_marker(head) else ("load",))
+            self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"), raw=True)
+            self.subscribe(WrenchStamped, bench_topic(c, "load"), join.callback("load"),
+                           raw=True)
 
     def _handler(self, component):
         from motoflex_ros.bench.sensor import marker_positions
@@ -47,13 +53,12 @@ class ComponentSimulatorNode(RigNode):
         def handle(phase, inputs):
             if "load" not in inputs:
                 return
-            load = inputs["load"]
-            sample, _ = sample_from_phase(phase, load.wrench.force.y)
+            ns, force = wrench_from_cdr(inputs["load"])
+            sample, _ = sample_from_phase(phase, force)
             motion = self.sims[component].step(sample)
             markers = marker_positions(q0 + motion[:3], rotation_from_vector(motion[3:]), q0,
                                        offsets)
-            self.pubs[component].publish(points_cdr(time_ns(load.header.stamp),
-                                                    frame_id(component), markers))
+            self.pubs[component].publish(points_cdr(ns, frame_id(component), markers))
         return handle
 
 

@@ -1,6 +1,11 @@
 """Conversions between the core's numbers (SI, numpy) and ROS 2 messages. Nothing else here.
 
 Times: integer nanoseconds of simulated time <-> builtin_interfaces/Time.
+
+The per-sample messages of the bench (phase, load, markers, pose) also have fast paths that
+write and read the serialized form (little-endian CDR, as rclpy's serializer writes it, padding
+zeroed) without Python message objects: the graph handles about 11,500 samples, and building
+and converting message objects cost tens of microseconds per message and node.
 """
 import json
 import math
@@ -14,11 +19,14 @@ from rclpy.serialization import deserialize_message
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
 
+from motoflex_ros.bench.actuator import LoadSample
+
 __all__ = ["time_msg", "time_ns", "clock_msg", "seconds_to_ns", "clock_ns_from_cdr",
            "wrench_msg", "phase_msg", "sample_from_phase", "points_msg", "points_from_msg",
            "pose_msg", "identification_statuses", "results_from_statuses", "quaternion_xyzw",
            "mode_statuses", "joint_state_msg", "poses_msg", "axis_marker", "points_cdr",
-           "points_from_cdr"]
+           "points_from_cdr", "wrench_cdr", "wrench_from_cdr", "phase_cdr", "phase_text",
+           "pose_cdr", "is_end_marker"]
 
 NS_PER_S = 1_000_000_000
 
@@ -72,11 +80,10 @@ def phase_msg(sample=None, end_ns=None):
 
 
 def sample_from_phase(msg, force_y):
-    """(LoadSample, None) from a phase message and the F_y [N] of its load; (None, end_ns) for
-    the end marker.
+    """(LoadSample, None) from a phase message (std_msgs/String, or its CDR bytes) and the F_y
+    [N] of its load; (None, end_ns) for the end marker.
     """
-    from motoflex_ros.bench.actuator import LoadSample
-    data = json.loads(msg.data)
+    data = json.loads(phase_text(msg))
     if "end_ns" in data:
         return None, data["end_ns"]
     data["force"] = float(force_y)
@@ -271,20 +278,94 @@ def axis_marker(marker_id, frame_id, name, point, axis, length=0.5):
     return marker
 
 
-# --- fast paths: PoseArray of points as CDR bytes (the bench's per-sample hot loop) ---------
+# --- fast paths: the bench's per-sample messages as CDR bytes ------------------------------
+
+_CDR_LE = b"\x00\x01\x00\x00"   # encapsulation: plain CDR, little-endian
+
+
+def _align(out, size):
+    """Zero padding up to a multiple of ``size`` (offsets count after the 4-byte header)."""
+    out += b"\0" * (-(len(out) - 4) % size)
+
+
+def _header_cdr(ns, frame_id):
+    """CDR of the encapsulation and a std_msgs/Header (stamp ``ns`` [ns], ``frame_id``)."""
+    sec, nanosec = divmod(int(ns), NS_PER_S)
+    name = frame_id.encode() + b"\0"
+    out = bytearray(struct.pack("<4siII", _CDR_LE, sec, nanosec, len(name)))
+    out += name
+    _align(out, 4)
+    return out
+
+
+def _header_from_cdr(data):
+    """(stamp [ns], offset after the Header) of little-endian CDR bytes."""
+    sec, nanosec, length = struct.unpack_from("<iII", data, 4)
+    offset = 16 + length
+    return sec * NS_PER_S + nanosec, offset + (-(offset - 4) % 4)
+
+
+def _doubles_cdr(ns, frame_id, values):
+    out = _header_cdr(ns, frame_id)
+    _align(out, 8)
+    out += struct.pack(f"<{len(values)}d", *values)
+    return bytes(out)
+
+
+def wrench_cdr(ns, frame_id, force_y):
+    """Serialized :func:`wrench_msg` (geometry_msgs/WrenchStamped, F_y [N])."""
+    return _doubles_cdr(ns, frame_id, (0.0, float(force_y), 0.0, 0.0, 0.0, 0.0))
+
+
+def wrench_from_cdr(data):
+    """(stamp [ns], F_y [N]) of a serialized geometry_msgs/WrenchStamped."""
+    if data[1] != 1:  # big-endian CDR: take the slow, general path
+        msg = deserialize_message(data, WrenchStamped)
+        return time_ns(msg.header.stamp), msg.wrench.force.y
+    ns, offset = _header_from_cdr(data)
+    offset += -(offset - 4) % 8
+    return ns, struct.unpack_from("<d", data, offset + 8)[0]
+
+
+def pose_cdr(ns, frame_id, position, rotation):
+    """Serialized :func:`pose_msg` (geometry_msgs/PoseStamped of a position [m] and a rotation
+    matrix)."""
+    x, y, z = (float(v) for v in position)
+    return _doubles_cdr(ns, frame_id, (x, y, z, *map(float, quaternion_xyzw(rotation))))
+
+
+def phase_cdr(sample=None, end_ns=None):
+    """Serialized :func:`phase_msg` (std_msgs/String)."""
+    data = {"end_ns": int(end_ns)} if sample is None else sample.to_dict()
+    text = json.dumps(data).encode() + b"\0"
+    return _CDR_LE + struct.pack("<I", len(text)) + text
+
+
+def is_end_marker(phase):
+    """Is a phase message (std_msgs/String or its CDR bytes) a component's end marker?"""
+    if isinstance(phase, (bytes, bytearray)):
+        return b'"end_ns"' in phase
+    return "end_ns" in phase.data
+
+
+def phase_text(msg):
+    """The text of a std_msgs/String, or of its CDR bytes."""
+    if not isinstance(msg, (bytes, bytearray)):
+        return msg.data
+    if msg[1] != 1:
+        return deserialize_message(bytes(msg), String).data
+    (length,) = struct.unpack_from("<I", msg, 4)
+    return msg[8:7 + length].decode()
+
 
 def points_cdr(ns, frame_id, points):
     """Serialized geometry_msgs/PoseArray (little-endian CDR, byte-identical to
     ``serialize_message(points_msg(ns, frame_id, points))``) without Python message objects."""
     pts = np.asarray(points, float).reshape(-1, 3)
-    sec, nanosec = divmod(int(ns), NS_PER_S)
-    name = frame_id.encode() + b"\0"
-    out = bytearray(struct.pack("<4siII", b"\x00\x01\x00\x00", sec, nanosec, len(name)))
-    out += name
-    out += b"\0" * (-(len(out) - 4) % 4)
+    out = _header_cdr(ns, frame_id)
     out += struct.pack("<I", len(pts))
     if len(pts):
-        out += b"\0" * (-(len(out) - 4) % 8)
+        _align(out, 8)
         poses = np.zeros((len(pts), 7), "<f8")
         poses[:, :3] = pts
         poses[:, 6] = 1.0
@@ -297,12 +378,10 @@ def points_from_cdr(data):
     if data[1] != 1:  # big-endian CDR: take the slow, general path
         msg = deserialize_message(data, PoseArray)
         return time_ns(msg.header.stamp), points_from_msg(msg)
-    sec, nanosec, length = struct.unpack_from("<iII", data, 4)
-    offset = 16 + length
-    offset += -(offset - 4) % 4
+    ns, offset = _header_from_cdr(data)
     (count,) = struct.unpack_from("<I", data, offset)
     offset += 4
     if count:
         offset += -(offset - 4) % 8
     poses = np.frombuffer(data, "<f8", count=7 * count, offset=offset).reshape(count, 7)
-    return sec * NS_PER_S + nanosec, poses[:, :3].copy()
+    return ns, poses[:, :3].copy()

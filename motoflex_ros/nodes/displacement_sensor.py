@@ -16,9 +16,10 @@ from std_msgs.msg import String
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.conversions import (
+    is_end_marker,
     points_cdr,
     points_from_cdr,
-    pose_msg,
+    pose_cdr,
     sample_from_phase,
 )
 from motoflex_ros.nodes.runtime import RigNode, run_node
@@ -44,8 +45,8 @@ class DisplacementSensorNode(RigNode):
             self.measured_pubs[c] = self.advertise(PoseArray, bench_topic(c, "markers/measured"))
             self.pose_pubs[c] = self.advertise(PoseStamped, bench_topic(c, "pose"))
             join = SampleJoin("phase", ("true",), self._handler(c),
-                              needs=lambda head: () if "end_ns" in head.data else ("true",))
-            self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"))
+                              needs=lambda head: () if is_end_marker(head) else ("true",))
+            self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"), raw=True)
             self.subscribe(PoseArray, bench_topic(c, "markers/true"), join.callback("true"),
                            raw=True)
 
@@ -65,7 +66,7 @@ class DisplacementSensorNode(RigNode):
             self.measured_pubs[component].publish(
                 points_cdr(ns, frame, np.concatenate(markers) if markers else np.zeros((0, 3))))
             for m in delivered:
-                self.pose_pubs[component].publish(pose_msg(ns, frame, m.position, m.rotation))
+                self.pose_pubs[component].publish(pose_cdr(ns, frame, m.position, m.rotation))
         return handle
 
 

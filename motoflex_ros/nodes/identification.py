@@ -19,10 +19,11 @@ from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_se
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.conversions import (
     identification_statuses,
+    is_end_marker,
     points_from_cdr,
     sample_from_phase,
     time_msg,
-    time_ns,
+    wrench_from_cdr,
 )
 from motoflex_ros.nodes.load_actuator import may_end_test
 from motoflex_ros.nodes.params import Param
@@ -58,10 +59,11 @@ class IdentificationNode(RigNode):
         self.results_pub = self.create_publisher(DiagnosticArray, RESULTS_TOPIC, latched_qos())
         for c in self.setups:
             join = SampleJoin("phase", ("load", "measured"), self._handler(c),
-                              needs=lambda h: ("measured",) if "end_ns" in h.data
+                              needs=lambda h: ("measured",) if is_end_marker(h)
                               else ("load", "measured"))
-            self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"))
-            self.subscribe(WrenchStamped, bench_topic(c, "load"), join.callback("load"))
+            self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"), raw=True)
+            self.subscribe(WrenchStamped, bench_topic(c, "load"), join.callback("load"),
+                           raw=True)
             self.subscribe(PoseArray, bench_topic(c, "markers/measured"),
                            join.callback("measured"), raw=True)
 
@@ -69,7 +71,7 @@ class IdentificationNode(RigNode):
         identifier = self.identifiers[component]
 
         def handle(phase, inputs):
-            force = inputs["load"].wrench.force.y if "load" in inputs else 0.0
+            ns, force = wrench_from_cdr(inputs["load"]) if "load" in inputs else (None, 0.0)
             sample, end_ns = sample_from_phase(phase, force)
             if sample is not None:
                 identifier.add_load(sample)
@@ -78,7 +80,6 @@ class IdentificationNode(RigNode):
                 self._finish(component, end_ns)
                 self._ack(end_ns, component, "done")
                 return
-            ns = time_ns(inputs["load"].header.stamp)
             if settled or may_end_test(sample):  # the actuator waits for this one
                 self._ack(ns, component, " ".join(["settled", *settled]) if settled else "")
             else:

@@ -22,7 +22,7 @@ from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
 
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, campaign_setups, frame_id, topic
-from motoflex_ros.nodes.conversions import clock_msg, phase_msg, seconds_to_ns, wrench_msg
+from motoflex_ros.nodes.conversions import clock_msg, phase_cdr, seconds_to_ns, wrench_cdr
 from motoflex_ros.nodes.pacing import ReadyWatch, StallError
 from motoflex_ros.nodes.params import Param
 from motoflex_ros.nodes.runtime import ACK_TOPIC, RigNode, run_node
@@ -126,15 +126,15 @@ class LoadActuatorNode(RigNode):
             self.pending[component].append(ns)
             self.last_ns[component] = ns
             self.ended.add(component)
-            return lambda: self.phase_pubs[component].publish(phase_msg(end_ns=ns))
+            return lambda: self.phase_pubs[component].publish(phase_cdr(end_ns=ns))
         ns = seconds_to_ns(sample.t)
         self.pending[component].append(ns)
         self.last_ns[component] = ns
         self.blocked[component] = may_end_test(sample)
 
         def publish():
-            self.phase_pubs[component].publish(phase_msg(sample))
-            self.load_pubs[component].publish(wrench_msg(ns, frame_id(component), sample.force))
+            self.phase_pubs[component].publish(phase_cdr(sample))  # CDR bytes, no message objects
+            self.load_pubs[component].publish(wrench_cdr(ns, frame_id(component), sample.force))
         return publish
 
 
