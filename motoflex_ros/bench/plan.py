@@ -17,9 +17,12 @@ from motoflex_ros.bench.response import harmonic_peak_motion
 from motoflex_ros.errors import ProtocolError
 
 MAX_ROTATION_RAD = 0.05  # [rad] largest end rotation of a test: small, linear deformation
+DECAY_ALIAS_SHARE = 0.01  # modes swinging more than 1 % of the largest in a decay...
+DECAY_NYQUIST_FACTOR = 2.2  # ... are sampled at 2.2 x their frequency (10 % below Nyquist)
 
 __all__ = ["TestPlan", "CampaignPlan", "plan_campaign", "sweep_frequencies", "onset_times",
-           "matched_amplitude", "check_linear", "protocol_error", "MAX_ROTATION_RAD"]
+           "matched_amplitude", "check_linear", "protocol_error", "decay_swing_shares",
+           "MAX_ROTATION_RAD", "DECAY_ALIAS_SHARE", "DECAY_NYQUIST_FACTOR"]
 
 
 @dataclass(frozen=True)
@@ -149,12 +152,46 @@ def sweep_frequencies(protocol, first_hz):
     return tuple(float(f) for f in freqs) + (float(end),)
 
 
-def _decay(protocol, modes):
+def decay_swing_shares(reduced, force):
+    """Each mode's share of the loaded-end swing after release from a static lateral force.
+
+    Parameters
+    ----------
+    reduced : ReducedComponent
+        Clamped reduced model (mass-normalised ``mode_shapes``, classical modal damping).
+    force : float
+        Preload F_y at the loaded end [N].
+
+    Returns
+    -------
+    ndarray
+        Per mode (ascending frequency): its loaded-end amplitude max(|u|, L |theta|) in the
+        free decay from x0 = K^-1 F, modal coordinate eta_i = phi_i^T M x0, over the largest
+        mode's [-].
+
+    """
+    x0 = np.linalg.solve(reduced.K, reduced.end_load_vector([0.0, force, 0.0, 0.0, 0.0, 0.0]))
+    phi = reduced.mode_shapes
+    end = phi[reduced.end_dofs] * (phi.T @ (reduced.M @ x0))
+    length = float(np.linalg.norm(reduced.q0))
+    swing = np.maximum(np.linalg.norm(end[:3], axis=0), length * np.linalg.norm(end[3:], axis=0))
+    return swing / swing.max()
+
+
+def _decay(protocol, modes, reduced):
+    """Free decay: samples_per_period per period of the higher target mode, and at least
+    DECAY_NYQUIST_FACTOR x the highest mode swinging more than DECAY_ALIAS_SHARE of the
+    largest (up to the sensor's maximum rate), so that no excited mode folds onto the targets
+    (at 8 x 93 Hz the frame's 676 and 1434 Hz modes folded to 69.5 and 56 Hz and biased the
+    bending zeta by -2.8 %)."""
     m = protocol.modal
     targets = [modes.first(label).f_hz for label in ("torsion", "bending")]
     f_low, f_high = min(targets), max(targets)
     _check_rate("modal", f_high, protocol, "sensor.max_rate_hz")
-    rate = min(m.samples_per_period * f_high, protocol.sensor.max_rate_hz)
+    shares = decay_swing_shares(reduced, m.preload_n)
+    f_excited = float(np.max(reduced.frequencies_hz[shares > DECAY_ALIAS_SHARE]))
+    rate = min(max(m.samples_per_period * f_high, DECAY_NYQUIST_FACTOR * f_excited),
+               protocol.sensor.max_rate_hz)
     n = int(math.ceil(m.decay_periods * rate / f_low)) + 2
     return TestPlan("decay", "decay", rate, n, m.preload_n, key="modal.preload_n")
 
@@ -213,7 +250,7 @@ def plan_campaign(protocol, reduced, modes=None):
             tests.append(_harmonic(f"sweep_{i:02d}", "sweep", f, protocol.sweep.amplitude_n,
                                    protocol, modes, keys))
     if protocol.modal is not None:
-        tests.append(_decay(protocol, modes))
+        tests.append(_decay(protocol, modes, reduced))
     for plan in tests:
         check_linear(plan, reduced, protocol)
     return CampaignPlan(tuple(tests), protocol, modes)
