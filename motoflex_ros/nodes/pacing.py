@@ -15,11 +15,10 @@ from diagnostic_msgs.msg import KeyValue
 from std_msgs.msg import String
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.nodes.runtime import ACK_TOPIC, READY_TOPIC, latched_qos
+from motoflex_ros.nodes.runtime import ACK_TOPIC, MATCH_TIMEOUT_S, READY_TOPIC, latched_qos
 
 __all__ = ["AckGate", "ReadyWatch", "StallError", "MATCH_TIMEOUT_S"]
 
-MATCH_TIMEOUT_S = 5.0  # longest wait for the publishers' side of discovery [s]
 
 
 class StallError(MotoflexError):

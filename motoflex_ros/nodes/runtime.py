@@ -4,7 +4,11 @@
   ``use_sim_time`` unless told otherwise, creates reliable keep-all publishers and
   subscriptions, checks the DDS publication sequence number of every received message and
   reports each gap (lost messages), and announces on ``/rig/ready`` once every subscription
-  sees a publisher.
+  sees a publisher and every publisher is matched with each subscriber the graph knows on its
+  topic (a reliable, volatile publisher drops what it sends before the match: a worker whose
+  reader matched only after the first window of samples went by stalled the run). A writer
+  whose participant has not yet discovered a reader still counts as matched: this narrows the
+  start-up race, it does not close it.
 - :class:`FastSpinner` waits on all subscriptions of a node and then drains each ready one
   with ``take_message`` until empty: one wait per burst instead of one executor turn per
   message (measured about 13x faster than ``SingleThreadedExecutor.spin_once``, which lost the
@@ -36,6 +40,7 @@ __all__ = ["RigNode", "FastSpinner", "run_node", "publish_patiently", "message_c
            "latched_qos", "READY_TOPIC", "ACK_TOPIC", "GAP_EXIT_CODE"]
 
 READY_TOPIC = "/rig/ready"
+MATCH_TIMEOUT_S = 5.0  # longest wait for the publishers' side of discovery [s]
 GAP_EXIT_CODE = 3  # a node that saw a sequence gap exits with this code
 ACK_TOPIC = "/rig/ack"
 
@@ -80,6 +85,8 @@ class RigNode(Node):
         self._ready_sent = False
         self._ready_pub = self.create_publisher(String, READY_TOPIC, latched_qos())
         self._ack_pub = None
+        self._advertised = []
+        self._match_deadline = time.monotonic() + MATCH_TIMEOUT_S
         self._processed_ns = None
         self._acked_ns = None
 
@@ -92,7 +99,9 @@ class RigNode(Node):
 
     def advertise(self, msg_type, topic, qos=None):
         """Reliable keep-all publisher."""
-        return self.create_publisher(msg_type, topic, qos or reliable_qos())
+        publisher = self.create_publisher(msg_type, topic, qos or reliable_qos())
+        self._advertised.append(publisher)
+        return publisher
 
     def check_sequence(self, sub, info):
         """Count and report messages lost on ``sub`` (DDS publication sequence numbers)."""
@@ -110,8 +119,13 @@ class RigNode(Node):
         self._last_seq[sub] = max(seq, last)
 
     def inputs_ready(self):
-        """True when every checked subscription sees at least one publisher."""
-        return all(sub.get_publisher_count() > 0 for sub in self._checked)
+        """True when every checked subscription sees at least one publisher and every
+        publisher of :meth:`advertise` is matched with every subscriber the graph knows on
+        its topic (not waited for longer than MATCH_TIMEOUT_S after start)."""
+        return all(sub.get_publisher_count() > 0 for sub in self._checked) and (
+            time.monotonic() > self._match_deadline
+            or all(pub.get_subscription_count() >= self.count_subscribers(pub.topic_name)
+                   for pub in self._advertised))
 
     def announce_ready(self):
         """Publish this node's name on /rig/ready once its inputs see their publishers."""
