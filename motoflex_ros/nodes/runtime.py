@@ -7,8 +7,10 @@
   sees a publisher and every publisher is matched with each subscriber the graph knows on its
   topic (a reliable, volatile publisher drops what it sends before the match: a worker whose
   reader matched only after the first window of samples went by stalled the run). A writer
-  whose participant has not yet discovered a reader still counts as matched: this narrows the
-  start-up race, it does not close it.
+  whose participant has not yet discovered a reader still counts as matched, so the condition
+  must also have held for READY_HOLD_S: the two directions of discovery are milliseconds
+  apart, and the recorder's subscriptions, created when it discovers a topic, were matched by
+  their writers a few tens of samples late (the run's zero-loss check failed) without it.
 - :class:`FastSpinner` waits on all subscriptions of a node and then drains each ready one
   with ``take_message`` until empty: one wait per burst instead of one executor turn per
   message (measured about 13x faster than ``SingleThreadedExecutor.spin_once``, which lost the
@@ -41,6 +43,7 @@ __all__ = ["RigNode", "FastSpinner", "run_node", "publish_patiently", "message_c
 
 READY_TOPIC = "/rig/ready"
 MATCH_TIMEOUT_S = 5.0  # longest wait for the publishers' side of discovery [s]
+READY_HOLD_S = 0.3  # inputs must have been ready this long before /rig/ready [s]
 GAP_EXIT_CODE = 3  # a node that saw a sequence gap exits with this code
 ACK_TOPIC = "/rig/ack"
 
@@ -83,6 +86,7 @@ class RigNode(Node):
         self._last_seq = {}
         self._checked = set()
         self._ready_sent = False
+        self._ready_since = None
         self._ready_pub = self.create_publisher(String, READY_TOPIC, latched_qos())
         self._ack_pub = None
         self._advertised = []
@@ -129,7 +133,13 @@ class RigNode(Node):
 
     def announce_ready(self):
         """Publish this node's name on /rig/ready once its inputs see their publishers."""
-        if not self._ready_sent and self.inputs_ready():
+        if self._ready_sent:
+            return True
+        if not self.inputs_ready():
+            self._ready_since = None
+        elif self._ready_since is None:
+            self._ready_since = time.monotonic()
+        elif time.monotonic() - self._ready_since >= READY_HOLD_S:
             self._ready_pub.publish(String(data=self.get_name()))
             self._ready_sent = True
         return self._ready_sent
