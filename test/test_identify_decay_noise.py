@@ -12,12 +12,15 @@ import numpy as np
 import pytest
 
 from motoflex_ros.bench.actuator import LoadActuator
-from motoflex_ros.bench.campaign import only_tests, run_campaign, setup_campaign, with_sensor
-from motoflex_ros.bench.sensor import MarkerSensor
+from motoflex_ros.bench.campaign import (
+    measure_motion,
+    only_tests,
+    run_campaign,
+    setup_campaign,
+    with_sensor,
+)
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.identify.decay import match_pole
-from motoflex_ros.identify.identifier import Identifier
-from motoflex_ros.spatial import rotation_from_vector
 
 SEEDS = 12
 LABELS = ("torsion", "bending")
@@ -49,17 +52,7 @@ def decay_motion(component):
 def replay_decay(component, seed):
     """DecayReading of the component's decay measured by the default (5 um) sensor."""
     setup, samples, motions = decay_motion(component)
-    q0 = setup.reduced.q0
-    sensor = MarkerSensor(setup.protocol.sensor, q0, seed)
-    identifier = Identifier(q0, setup.protocol.harmonic)
-    for sample, motion in zip(samples, motions):
-        identifier.add_load(sample)
-        for m in sensor.capture(sample.index, sample.t, q0 + motion[:3],
-                                rotation_from_vector(motion[3:])):
-            identifier.add_measurement(m)
-    for m in sensor.flush():
-        identifier.add_measurement(m)
-    return identifier.readings()["decay"]
+    return measure_motion(setup, samples, motions, seed)["decay"]
 
 
 def _marks(component):

@@ -8,28 +8,22 @@ import numpy as np
 import pytest
 
 from motoflex_ros.bench.actuator import LoadActuator
-from motoflex_ros.bench.campaign import only_tests, run_campaign, setup_campaign, with_sensor
-from motoflex_ros.bench.sensor import MarkerSensor
+from motoflex_ros.bench.campaign import (
+    measure_motion,
+    only_tests,
+    run_campaign,
+    setup_campaign,
+    with_sensor,
+)
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
-from motoflex_ros.identify.identifier import Identifier
 from motoflex_ros.identify.results import static_model
-from motoflex_ros.spatial import rotation_from_vector
 
 REPETITIONS = 50
 
 
 def replay_static(setup, samples, motions, seed):
-    q0 = setup.reduced.q0
-    sensor = MarkerSensor(setup.protocol.sensor, q0, seed)
-    identifier = Identifier(q0, setup.protocol.harmonic)
-    for sample, motion in zip(samples, motions):
-        identifier.add_load(sample)
-        for m in sensor.capture(sample.index, sample.t, q0 + motion[:3],
-                                rotation_from_vector(motion[3:])):
-            identifier.add_measurement(m)
-    for m in sensor.flush():
-        identifier.add_measurement(m)
-    return static_model(identifier.readings()["static"], q0)[0]
+    readings = measure_motion(setup, samples, motions, seed)
+    return static_model(readings["static"], setup.reduced.q0)[0]
 
 
 @pytest.mark.parametrize("component", MOTORCYCLE_COMPONENTS)

@@ -22,8 +22,8 @@ from motoflex_ros.identify.results import MODEL_TESTS, identify_component
 from motoflex_ros.spatial import rotation_from_vector
 
 __all__ = ["CampaignSetup", "CampaignRun", "setup_campaign", "make_stages", "run_campaign",
-           "identify_components", "only_tests", "with_sensor", "checked_noise", "MAX_NOISE_M",
-           "checked_seed", "MAX_SEED"]
+           "identify_components", "only_tests", "with_sensor", "measure_motion", "checked_noise",
+           "MAX_NOISE_M", "checked_seed", "MAX_SEED"]
 
 
 @dataclass(frozen=True)
@@ -107,6 +107,27 @@ def _deliver(identifier, actuator, measurements):
         done = identifier.add_measurement(m)
         if done:
             actuator.end_test(done)
+
+
+def measure_motion(setup, samples, motions, seed=0):
+    """Readings of the sensor and identifier stages over a known load history and motion.
+
+    ``samples``: the actuator's LoadSamples; ``motions`` (n, 6): the true loaded-end motion at
+    each sample (displacement [m], rotation vector [rad]), e.g. one simulation replayed with
+    many sensor-noise seeds. Returns what the campaign with that sensor ``seed`` measures
+    (``Identifier.readings()``), without simulating the structure again.
+    """
+    q0 = np.asarray(setup.reduced.q0, float)
+    sensor = MarkerSensor(setup.protocol.sensor, q0, seed)
+    identifier = Identifier(q0, setup.protocol.harmonic)
+    for sample, motion in zip(samples, motions):
+        identifier.add_load(sample)
+        for m in sensor.capture(sample.index, sample.t, q0 + motion[:3],
+                                rotation_from_vector(motion[3:])):
+            identifier.add_measurement(m)
+    for m in sensor.flush():
+        identifier.add_measurement(m)
+    return identifier.readings()
 
 
 def only_tests(setup, names):
