@@ -20,7 +20,6 @@ from motoflex_ros.nodes.runtime import ACK_TOPIC, MATCH_TIMEOUT_S, READY_TOPIC, 
 __all__ = ["AckGate", "ReadyWatch", "StallError", "MATCH_TIMEOUT_S"]
 
 
-
 class StallError(MotoflexError):
     """A consumer stopped acknowledging (died or hung)."""
 
@@ -52,8 +51,7 @@ class ReadyWatch:
             return False
         if self._announced_at is None:
             self._announced_at = time.monotonic()
-        if all(pub.get_subscription_count() >= self.node.count_subscribers(pub.topic_name)
-               for pub in self.publishers):
+        if self.node.publishers_matched(self.publishers):
             return True
         if time.monotonic() - self._announced_at > MATCH_TIMEOUT_S:
             self.node.get_logger().warning(

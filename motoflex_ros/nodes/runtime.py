@@ -127,9 +127,13 @@ class RigNode(Node):
         publisher of :meth:`advertise` is matched with every subscriber the graph knows on
         its topic (not waited for longer than MATCH_TIMEOUT_S after start)."""
         return all(sub.get_publisher_count() > 0 for sub in self._checked) and (
-            time.monotonic() > self._match_deadline
-            or all(pub.get_subscription_count() >= self.count_subscribers(pub.topic_name)
-                   for pub in self._advertised))
+            time.monotonic() > self._match_deadline or self.publishers_matched(self._advertised))
+
+    def publishers_matched(self, publishers):
+        """True when each of ``publishers`` is matched with every subscriber the ROS graph
+        knows on its topic (the writers' side of discovery is done for them)."""
+        return all(pub.get_subscription_count() >= self.count_subscribers(pub.topic_name)
+                   for pub in publishers)
 
     def announce_ready(self):
         """Publish this node's name on /rig/ready once its inputs see their publishers."""
