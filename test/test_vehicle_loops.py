@@ -78,6 +78,7 @@ def _four_bar_dict(**joint_overrides):
     for name, override in joint_overrides.items():
         joints[name] = {**joints[name], **override}
     return {"name": "four_bar", "base": "fixed", "root": "ground", "gravity": G,
+            "roles": {"crank": "crank_pivot"},      # keep the crank angle independent
             "bodies": {"ground": _body(1.0, o),
                        "crank": _body(M2, 0.5 * b, (0.010, 0.012, IZZ)),
                        "coupler": _body(M3, b + 0.4 * (c - b), (0.010, 0.012, IZZ)),

@@ -18,7 +18,7 @@ import numpy as np
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.spatial import cross
 from motoflex_ros.vehicle.contact import GROUND_NORMAL, contact_state
-from motoflex_ros.vehicle.kinematics import compile_tree, frame_states
+from motoflex_ros.vehicle.kinematics import compile_tree, coordinate_names_of, frame_states
 from motoflex_ros.vehicle.loops import loop_rows
 
 __all__ = ["VehicleSystem", "build_system", "bind_elements", "residual", "positions",
@@ -92,10 +92,12 @@ def _loop_description(tree):
 def _loop_dependent(model, tree):
     """Coordinates solved from the loop-closure and lock constraints (coordinate partitioning).
 
-    Locked coordinates first; then, greedily, joint coordinates in reverse order of
-    declaration whose constraint column adds rank (a coordinate named by a role, e.g. the
-    steering angle, only when nothing else will do). ConfigError when the constraints are
-    redundant (rank below their count): a loop that is over-constrained.
+    Locked coordinates first; then, greedily, joint coordinates in order of declaration whose
+    constraint column adds rank (a coordinate named by a role, e.g. the steering angle, only
+    when nothing else will do). Declaration order keeps the mechanism's own joints dependent
+    and the coordinates a variant appends (lumped hinges, superelement end DOFs) independent.
+    ConfigError when the constraints are redundant (rank below their count): a loop that is
+    over-constrained.
     """
     n = len(tree.coordinates)
     zero = np.zeros(n)
@@ -112,8 +114,12 @@ def _loop_dependent(model, tree):
                           f"mechanism exactly constrained (e.g. a spherical instead of a "
                           f"revolute joint where a planar loop closes)")
     roles = set(model.roles.values())
+    declared = {name: i for i, joint in enumerate(model.joints)
+                for name in coordinate_names_of(joint)}
+    joints = sorted(joints, key=lambda k: (declared.get(tree.coordinates[k].name, len(declared)),
+                                           k))
     locked = [k for k in joints if tree.coordinates[k].locked]
-    others = [k for k in reversed(joints) if k not in locked]
+    others = [k for k in joints if k not in locked]
     order = locked + [k for k in others if tree.coordinates[k].name not in roles]
     order += [k for k in others if tree.coordinates[k].name in roles]
     chosen, basis = [], np.zeros((G.shape[0], 0))

@@ -15,9 +15,32 @@ import scipy.linalg
 from motoflex_ros.errors import ModelError
 from motoflex_ros.vehicle.dynamics import build_system, positions, residual
 
-__all__ = ["LinearVehicle", "SecondOrderMatrices", "linearize_at", "linearize"]
+__all__ = ["LinearVehicle", "SecondOrderMatrices", "linearize_at", "linearize",
+           "is_singular", "SINGULAR_RTOL"]
 
 _STEP = 1e-30
+SINGULAR_RTOL = 1e-10
+"""E is taken as singular when its smallest singular value is below this fraction of its
+largest. Massless bodies make E singular; inside a closed loop their rows come out as rounding
+noise rather than exact zeros, where an ordinary solve would not fail but return garbage."""
+
+
+def is_singular(E, rtol=SINGULAR_RTOL):
+    """True when the matrix E (n, n) (or the first of a stack) is numerically singular.
+
+    Rows and then columns are scaled to unit largest entry first (the states mix units: m,
+    rad, N; a flexible motorcycle's E spans ten decades unscaled), then the smallest singular
+    value is compared with the largest.
+    """
+    first = np.asarray(E, float)
+    first = first[0] if first.ndim == 3 else first
+    rows = np.max(np.abs(first), axis=1)
+    if np.any(rows == 0.0):
+        return True
+    scaled = first / rows[:, None]
+    scaled = scaled / np.max(np.abs(scaled), axis=0)[None, :]
+    s = np.linalg.svd(scaled, compute_uv=False)
+    return bool(s[-1] <= rtol * s[0])
 _FIT_SPEEDS = (1.0, 2.0, 3.0)
 _CHECK_SPEED = 7.5
 
@@ -85,11 +108,10 @@ class LinearVehicle:
         """Stacked A_s(v) = E(v)^-1 A(v) [1/s]; ModelError when E is singular (massless
         bodies: use ``eigenvalues``, which solves the generalized problem)."""
         E, A = self.pencil(speeds)
-        try:
-            return np.linalg.solve(E, A)
-        except np.linalg.LinAlgError:
+        if is_singular(E):
             raise ModelError(f"{self.system.model.source}: singular E(v) (massless bodies); "
-                             "use the descriptor form") from None
+                             "use the descriptor form")
+        return np.linalg.solve(E, A)
 
     def eigenvalues(self, speed):
         """Finite eigenvalues [1/s] of E x' = A x at one speed (infinite ones dropped)."""

@@ -45,12 +45,14 @@ from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.results import results_source
 from motoflex_ros.identify.stiffness import GAMMA_S
+from motoflex_ros.vehicle.dynamics import build_system, dependent_speeds
+from motoflex_ros.vehicle.kinematics import frame_states
 from motoflex_ros.vehicle.model import Body, Joint, composite_inertia
 
 __all__ = ["VARIANTS", "COMPONENTS", "GAMMA", "FlexJoint", "ComponentSite", "site_of",
            "axis_in_vehicle", "state_of_the_art_axis", "state_of_the_art_stiffness", "SOTA_LOAD",
            "check_site", "check_split_identifiable", "reattach", "flex_joints", "lumped_vehicle",
-           "mass_properties", "MOUNTS"]
+           "mass_properties", "MOUNTS", "SUPERELEMENT_PARENT"]
 
 VARIANTS = ("rigid", "state_of_the_art", "static", "torsion", "bending", "decomposed")
 COMPONENTS = MOTORCYCLE_COMPONENTS
@@ -61,9 +63,14 @@ MOUNTS = {
     # component: (donor body, what hangs from the new body: ('joint', role) or ('wheel', name))
     "frame": ("frame", ("joint", "steer")),
     "front_assembly": ("lower_fork", ("wheel", "front")),
-    "swingarm": ("swingarm", ("wheel", "rear")),
+    "swingarm": ("wheel_carrier", ("wheel", "rear")),
 }
 NEW_BODY = {"frame": "frame_head", "front_assembly": "front_flex", "swingarm": "rear_flex"}
+SUPERELEMENT_PARENT = {"frame": "frame", "front_assembly": "lower_fork", "swingarm": "swingarm"}
+"""Body each component's superelement is welded to in the flexible motorcycle: the one that
+holds its bench clamps (frame: the rear frame with the engine mounts; swingarm: the main arm,
+locked on its pivot; front assembly: the steered lower fork, which is NOT where the bench
+clamps it: docs/boundary-conditions.md)."""
 TOLERANCE = 1e-3
 """How far [m] a component's interface point may lie from the vehicle's joint point."""
 
@@ -300,14 +307,21 @@ def _body(bodies, name, model):
 
 
 def _rigid_cluster(model, name):
-    """Names of the bodies welded to body ``name`` by fixed joints (they share one frame)."""
-    cluster, grew = {name}, True
-    while grew:
-        grew = False
-        for j in model.joints:
-            if j.kind == "fixed" and (j.parent in cluster) != (j.child in cluster):
-                cluster |= {j.parent, j.child}
-                grew = True
+    """Names of the bodies that move as one with body ``name``: welded to it by fixed joints,
+    or held to it by a frozen mechanism (locked coordinates closing a loop, e.g. the wheel
+    carrier of the locked Paralever). Found from the kinematics: a body belongs to the cluster
+    when its frame has the twist of ``name``'s frame for every independent speed."""
+    system = build_system(model)
+    tree = system.tree
+    zero = np.zeros(len(tree.coordinates))
+    cluster = {b.name for b in model.bodies}
+    for k in system.indep_speed:
+        known = zero.copy()
+        known[k] = 1.0
+        frames = frame_states(tree, zero, dependent_speeds(system, zero, known))
+        twists = {b: np.concatenate([frames[tree.body_frames[b]].w,
+                                     frames[tree.body_frames[b]].v0]) for b in cluster | {name}}
+        cluster = {b for b in cluster if np.allclose(twists[b], twists[name], atol=1e-9)}
     return cluster
 
 

@@ -47,7 +47,8 @@ def build_variant(vehicle, variant, names, identified, components):
         for name in names:
             lumped.check_site(vehicle, name, lumped.site_of(components[name]))
         return flexible_vehicle(vehicle, {
-            name: superelement_of(components[name], lumped.MOUNTS[name][0]) for name in names})
+            name: superelement_of(components[name], lumped.SUPERELEMENT_PARENT[name])
+            for name in names})
     joints = {}
     for name in names:
         site = lumped.site_of(components[name])
@@ -66,8 +67,9 @@ def build_variant(vehicle, variant, names, identified, components):
 def flexible_vehicle(vehicle, superelements):
     """The rigid vehicle with each component's superelement in place (the ground truth).
 
-    ``superelements`` maps a component name to its Superelement (welded to the donor body of
-    :data:`lumped.MOUNTS`); what the component carries hangs from the superelement's end body.
+    ``superelements`` maps a component name to its Superelement (welded to the body of
+    :data:`lumped.SUPERELEMENT_PARENT`); what the component carries hangs from the
+    superelement's end body.
     """
     bodies = list(vehicle.bodies)
     joints = list(vehicle.joints)
