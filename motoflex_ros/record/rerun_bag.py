@@ -271,7 +271,7 @@ def convert_bag(bag_dir, rrd_path=None, vehicle="touring", progress=False):
     identify = _read_json(bag_dir, "identification.json", "identify.json")
     with bar:
         with rl.RunRecording(rrd_path or rrd_path_of(bag_dir), bag_dir.name,
-                             default_blueprint(sorted(bench))) as run:
+                             default_blueprint) as run:
             converted = _log_all(run.stream, bar, grouped, bench, t0, info, identify, vehicle)
             _step(bar, "writing")
         bar.update(1)
