@@ -44,7 +44,7 @@ def register(subparsers):
 
 def run(args):
     """Run the graph; print the table (or JSON); returns the exit code."""
-    from motoflex_ros.launcher.campaign import run_campaign_graph
+    from motoflex_ros.launcher.campaign import VEHICLE_VARIANT, run_campaign_graph
     from motoflex_ros.record.mcap_bag import bag_info
     out = args.out or time.strftime("bags/campaign_%Y%m%d_%H%M%S", time.gmtime())
     outcome = run_campaign_graph(args.components, out, args.noise, args.seed, args.protocol,
@@ -57,7 +57,7 @@ def run(args):
     info = bag_info(outcome.bag)
     _table(outcome.results)
     if outcome.vehicle:
-        print("\nlumped 'static' motorcycle of the identified values:")
+        print(f"\nlumped '{VEHICLE_VARIANT}' motorcycle of the identified values:")
         _vehicle_table(outcome.vehicle)
     print(f"\nbag: {outcome.bag} ({info.message_count} messages, {len(info.topics)} topics); "
           f"results: {outcome.result_file}; wall time {outcome.wall_s:.1f} s "

@@ -17,7 +17,7 @@ from motoflex_ros.launcher.graph import NodeSpec
 from motoflex_ros.launcher.run import RunFailed, run_graph
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
-           "planned_duration", "RESULT_FILE"]
+           "planned_duration", "RESULT_FILE", "VEHICLE_COMPONENTS", "VEHICLE_VARIANT"]
 
 RESULT_FILE = "identification.json"
 BENCH_LEAVES = ("load", "phase", "markers/true", "markers/measured", "pose")
@@ -39,6 +39,9 @@ class CampaignOutcome:
 VEHICLE_TOPICS = ("/vehicle/eigenvalues", "/vehicle/joint_states", "/vehicle/bodies",
                   "/vehicle/joint_axes")
 VEHICLE_COMPONENTS = MOTORCYCLE_COMPONENTS
+VEHICLE_VARIANT = "static"
+"""The lumped variant (Sect. 5.2) the campaign's vehicle_simulator builds of the identified
+values; the campaign prints its weave and wobble and the report shows them."""
 
 
 def with_vehicle(components):
@@ -58,7 +61,8 @@ def campaign_specs(components, bag, noise=None, seed=0, protocol=None):
     bench = {"components": list(components), "seed": int(seed),
              "noise": -1.0 if noise is None else float(noise), "protocol": protocol or ""}
     workers = ["component_simulator", "displacement_sensor", "identification", "recorder"]
-    vehicle = ([NodeSpec("vehicle_simulator", {"components": list(VEHICLE_COMPONENTS)})]
+    vehicle = ([NodeSpec("vehicle_simulator", {"components": list(VEHICLE_COMPONENTS),
+                                               "variant": VEHICLE_VARIANT})]
                if with_vehicle(components) else [])
     return vehicle + [
         NodeSpec("load_actuator", {**bench, "wait_for": workers}),

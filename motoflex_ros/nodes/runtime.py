@@ -17,7 +17,8 @@
   race at about 1,500 messages/s here).
 - :func:`run_node` is every executable's ``main``: ``rclpy.init`` reads ``--ros-args``
   (``-p``, ``--params-file``), SIGINT and SIGTERM end the loop cleanly (the node's
-  :meth:`RigNode.close` runs), a parameter error prints one line and exits with 2.
+  :meth:`RigNode.close` runs), a parameter error prints one line and exits with 2;
+  ``--help`` prints the node's parameters with their defaults and exits 0.
 """
 import importlib
 import os
@@ -35,9 +36,10 @@ from rclpy.signals import SignalHandlerOptions
 from std_msgs.msg import String
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.nodes.params import declare_parameters
+from motoflex_ros.nodes.params import declare_parameters, parameters_help
 
-__all__ = ["RigNode", "FastSpinner", "run_node", "publish_patiently", "message_class",
+__all__ = ["RigNode", "FastSpinner", "run_node", "print_help", "publish_patiently",
+           "message_class",
            "reliable_qos",
            "latched_qos", "READY_TOPIC", "ACK_TOPIC", "GAP_EXIT_CODE"]
 
@@ -264,8 +266,25 @@ def _deliver_everything(node, timeout_s=30.0):
                                     f"everything within {timeout_s:g} s")
 
 
+def _help_asked(args):
+    """Does the command line (not its ROS arguments) ask for -h / --help?"""
+    from rclpy.utilities import remove_ros_args
+    return not {"-h", "--help"}.isdisjoint(remove_ros_args(args)[1:])
+
+
+def print_help(node_class):
+    """What ``node_class`` does (its module's summary) and its parameters, on stdout."""
+    summary = (sys.modules[node_class.__module__].__doc__ or "").strip().split("\n\n")[0]
+    print(f"usage: {node_class.NAME} [--help] [--ros-args [-p NAME:=VALUE]... "
+          f"[--params-file FILE]]\n\n{summary}\n\nparameters (type and range, default: "
+          "meaning):", *parameters_help(node_class.PARAMS), sep="\n")
+
+
 def run_node(node_class, args=None):
     """Run ``node_class`` until it finishes or gets SIGINT/SIGTERM; returns the exit code."""
+    if _help_asked(args):
+        print_help(node_class)
+        return 0
     stop = []
     profile = _profiler()
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)

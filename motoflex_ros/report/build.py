@@ -13,6 +13,7 @@ from motoflex_ros.report import tables
 from motoflex_ros.report.html import Figure, Missing, Section, render
 from motoflex_ros.report.sources import FIG9_VARIANTS, load_run_data
 from motoflex_ros.structures.published import COMPONENTS
+from motoflex_ros.vehicle.variants import variant_label
 
 __all__ = ["build_report", "SECTIONS", "REPORT_FILE"]
 
@@ -71,8 +72,14 @@ def _sensitivity(data, files):
 
 
 def _vehicle(data, files):
-    return [Figure("eig_touring", "Touring motorcycle (rigid): weave and wobble against speed",
-                   _figures().fig9_figure({"rigid": data["eig"]}))]
+    eig = data["eig"]
+    if "variant" in eig:
+        variant, label = eig["variant"], variant_label(eig["variant"], eig["components"])
+    else:
+        variant, label = "unknown", f"model not recorded in {files['eig']}"
+    return [Figure("eig_touring", f"{eig.get('vehicle', 'touring').capitalize()} motorcycle, "
+                   f"{label}: weave and wobble against speed",
+                   _figures().fig9_figure({variant: eig}))]
 
 
 def _whipple(data, files):

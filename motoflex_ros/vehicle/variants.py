@@ -14,7 +14,8 @@ from motoflex_ros.errors import ConfigError
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.superelement import chain_parts, end_body, superelement_of
 
-__all__ = ["FLEX_CHOICES", "parse_components", "build_variant", "flexible_vehicle"]
+__all__ = ["FLEX_CHOICES", "parse_components", "build_variant", "flexible_vehicle",
+           "variant_label"]
 
 FLEX_CHOICES = ("flexible",) + lumped.VARIANTS
 
@@ -29,6 +30,16 @@ def parse_components(text, source="--components"):
             raise ConfigError(source, "components", f"unknown component '{name}' (allowed: "
                                                     f"{', '.join(lumped.COMPONENTS)}, all)")
     return names
+
+
+def variant_label(variant, names):
+    """How a report names a variant: 'rigid', 'flexible frame, swingarm' or "lumped 'static'
+    variant of frame, front_assembly, swingarm"."""
+    if variant == "rigid" or not names:
+        return "rigid"
+    if variant == "flexible":
+        return f"flexible {', '.join(names)}"
+    return f"lumped '{variant}' variant of {', '.join(names)}"
 
 
 def _steer_axis(vehicle):
