@@ -62,3 +62,26 @@ def test_nodes_do_not_import_the_cli():
                for module, chain in import_chains(node).items()
                if module.startswith("motoflex_ros.cli")]
     assert not reached, reached
+
+
+def _package_modules(package):
+    return [m for m in MODULES if m == package or m.startswith(package + ".")]
+
+
+def test_vehicle_takes_lumped_parameters_and_does_not_import_the_identification():
+    """Issue 12: the vehicle gets lumped joints (FlexJoint) and superelements; reading
+    identification results into them is the study layer's job (study/variants.py)."""
+    direct = [f"{m} imports {i}" for m in _package_modules("motoflex_ros.vehicle")
+              for i in imports_of(m)
+              if i.startswith(("motoflex_ros.identify", "motoflex_ros.study",
+                               "motoflex_ros.bench"))]
+    assert not direct, direct
+
+
+def test_structures_stand_below_the_vehicle():
+    """Issue 12: structures reach neither the vehicle nor the studies (shared mass-property
+    checks live in motoflex_ros.inertia)."""
+    reached = [" -> ".join(chain) for m in _package_modules("motoflex_ros.structures")
+               for module, chain in import_chains(m).items()
+               if module.startswith(("motoflex_ros.vehicle", "motoflex_ros.study"))]
+    assert not reached, reached

@@ -258,10 +258,10 @@ def test_report_vehicle_source_is_the_campaigns_motorcycle(tmp_path):
     from motoflex_ros.config import resolve_config
     from motoflex_ros.launcher.campaign import campaign_specs
     from motoflex_ros.report.sources import SOURCES, RunData, _load_one
+    from motoflex_ros.study.variants import build_variant
     from motoflex_ros.vehicle.linearize import linearize
     from motoflex_ros.vehicle.model import load_vehicle
     from motoflex_ros.vehicle.modes import modal_sweep
-    from motoflex_ros.vehicle.variants import build_variant
     if not (EXAMPLE / "identification.json").is_file():
         pytest.skip("bags/example is not in this checkout")
     (vehicle,) = [s.params for s in campaign_specs(COMPONENTS, tmp_path / "bag")

@@ -24,10 +24,11 @@ from motoflex_ros.cli.inputs import identification_results, motorcycle_component
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.config import resolve_config
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import MODE_NAMES, modal_sweep
-from motoflex_ros.vehicle.variants import FLEX_CHOICES, build_variant, parse_components
+from motoflex_ros.vehicle.variants import FLEX_CHOICES, parse_components
 
 __all__ = ["register", "run", "requested_speeds", "sweep_to_json", "model_to_json"]
 

@@ -106,9 +106,9 @@ class VehicleSimulatorNode(RigNode):
         self.finished = True
 
     def _simulate(self):
+        from motoflex_ros.study.variants import build_variant
         from motoflex_ros.vehicle.linearize import linearize
         from motoflex_ros.vehicle.modes import modal_sweep
-        from motoflex_ros.vehicle.variants import build_variant
         p = self.params
         names = list(p["components"])
         model = build_variant(self.rigid, p["variant"], names, self.identified,
