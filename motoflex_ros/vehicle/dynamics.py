@@ -185,14 +185,15 @@ def _contacts(system, q, u):
     return frames, contacts
 
 
-def _solve_positions(system, q):
+def _solve_positions(system, q, steps=None):
     """Dependent coordinates from the contact heights and the loop closures (fixed-count
-    Newton iteration, complex-step safe)."""
+    Newton iteration, complex-step safe). ``steps`` None: enough for finite motions."""
     zero = np.zeros_like(q)
     dep = list(system.dep_pos)
     if not dep:
         return q
-    steps = _LOOP_NEWTON_STEPS if system.loop_dep else _NEWTON_STEPS
+    if steps is None:
+        steps = _LOOP_NEWTON_STEPS if system.loop_dep else _NEWTON_STEPS
     for _ in range(steps):
         frames, contacts = _contacts(system, q, zero)
         loops = loop_rows(system.tree, frames, q)
@@ -259,13 +260,16 @@ def _joint_spring_dampers(system, q, u):
     return np.array([c.stiffness * q[k] + c.damping * u[k] for k, c in enumerate(coords)])
 
 
-def positions(system, x):
+def positions(system, x, newton_steps=None):
     """All coordinates q at the state x: independent ones from x, height and pitch of the base
-    from the contact-height constraints (fixed-count Newton)."""
+    from the contact-height constraints and the loop coordinates from the loop closures
+    (fixed-count Newton from q = 0). ``newton_steps`` None: enough for finite motions; 1 is
+    exact for a complex-step perturbation of the reference, where q = 0 solves the
+    constraints and one step gets the imaginary part to first order, which is all there is."""
     nq = len(system.indep_pos)
     q = np.zeros(len(system.tree.coordinates), np.result_type(x, float))
     q[list(system.indep_pos)] = x[:nq]
-    return _solve_positions(system, q)
+    return _solve_positions(system, q, newton_steps)
 
 
 def residual(system, xdot, x, v, applied=None, q=None):

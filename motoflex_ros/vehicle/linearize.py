@@ -64,13 +64,15 @@ def linearize_at(system, v):
     zero = np.zeros(n, complex)
     # the coordinates depend on the position states only: solve them once for every column
     # that perturbs x' or a speed or tyre state
-    q_ref = positions(system, zero)
+    # (one Newton step is exact for a perturbation of the reference: dynamics.positions)
+    q_ref = positions(system, zero, newton_steps=1)
     n_pos = len(system.indep_pos)
     for k in range(n):
         step = np.zeros(n, complex)
         step[k] = 1j * _STEP
         E[:, k] = residual(system, step, zero, v, q=q_ref).imag / _STEP
-        A[:, k] = -residual(system, zero, step, v, q=None if k < n_pos else q_ref).imag / _STEP
+        q = positions(system, step, newton_steps=1) if k < n_pos else q_ref
+        A[:, k] = -residual(system, zero, step, v, q=q).imag / _STEP
     return E, A
 
 
