@@ -167,6 +167,13 @@ def test_campaign_fault_named_and_clean(tmp_path, victim):
                         else f"node '{victim}' died")
 
 
+def _report(bag):
+    """``motoflex report BAG --no-compute`` (what refuses an incomplete run)."""
+    return subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "report", str(bag),
+                           "--no-compute", "--quiet"], capture_output=True, text=True,
+                          timeout=120)
+
+
 def _failed_and_refused(bag, reason):
     """Issue 13: a failed run says so in status.json, keeps no success-looking result, and
     ``motoflex report`` refuses it."""
@@ -174,9 +181,7 @@ def _failed_and_refused(bag, reason):
     assert status["status"] == "failed" and reason in status["reason"], status
     assert not (bag / "identification.json").exists()
     assert not (bag / ".identification.partial.json").exists()
-    report = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "report", str(bag),
-                             "--no-compute", "--quiet"], capture_output=True, text=True,
-                            timeout=120)
+    report = _report(bag)
     assert report.returncode == 2 and "--allow-incomplete" in report.stderr, report.stderr
     assert not (bag / "report.html").exists()
 
@@ -228,7 +233,5 @@ def test_killed_launcher_leaves_no_node(tmp_path):
     assert left == []
     assert mcap_bag.bag_info(bag).count(f"/bench/{COMPONENT}/load") > 0
     assert not (bag / "status.json").exists()   # killed before its status: incomplete
-    report = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "report", str(bag),
-                             "--no-compute", "--quiet"], capture_output=True, text=True,
-                            timeout=120)
+    report = _report(bag)
     assert report.returncode == 2 and "did not finish" in report.stderr, report.stderr
