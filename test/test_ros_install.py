@@ -87,3 +87,5 @@ def test_ros_install_prefix_puts_executables_in_lib_package(tmp_path):
     assert run.returncode == 2, run.stderr
     assert "parameter 'window' = 0 is not allowed" in run.stderr
     assert (site / "motoflex_ros" / "nodes" / "sim_clock.py").is_file()
+    # the DDS profile every node loads (loopback only, issue 13) is package data too
+    assert (site / "motoflex_ros" / "config" / "dds" / "loopback.xml").is_file()

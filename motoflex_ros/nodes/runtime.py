@@ -15,7 +15,8 @@
   with ``take_message`` until empty: one wait per burst instead of one executor turn per
   message (measured about 13x faster than ``SingleThreadedExecutor.spin_once``, which lost the
   race at about 1,500 messages/s here).
-- :func:`run_node` is every executable's ``main``: ``rclpy.init`` reads ``--ros-args``
+- :func:`run_node` is every executable's ``main``: DDS on loopback unless MOTOFLEX_DDS=network
+  (:mod:`motoflex_ros.launcher.dds`), ``rclpy.init`` reads ``--ros-args``
   (``-p``, ``--params-file``), SIGINT and SIGTERM end the loop cleanly (the node's
   :meth:`RigNode.close` runs), a parameter error prints one line and exits with 2;
   ``--help`` prints the node's parameters with their defaults and exits 0.
@@ -36,6 +37,7 @@ from rclpy.signals import SignalHandlerOptions
 from std_msgs.msg import String
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.launcher.dds import configure_dds
 from motoflex_ros.nodes.params import declare_parameters, parameters_help
 
 __all__ = ["RigNode", "FastSpinner", "run_node", "print_help", "publish_patiently",
@@ -280,6 +282,12 @@ def print_help(node_class):
           "meaning):", *parameters_help(node_class.PARAMS), sep="\n")
 
 
+def _refuse(node_class, exc):
+    """A user error before the loop: one line on stderr, exit code 2."""
+    print(f"{node_class.NAME}: error: {exc}", file=sys.stderr)
+    return 2
+
+
 def run_node(node_class, args=None):
     """Run ``node_class`` until it finishes or gets SIGINT/SIGTERM; returns the exit code."""
     if _help_asked(args):
@@ -287,15 +295,18 @@ def run_node(node_class, args=None):
         return 0
     stop = []
     profile = _profiler()
+    try:
+        configure_dds(os.environ)   # loopback unless MOTOFLEX_DDS=network (before rclpy.init)
+    except MotoflexError as exc:
+        return _refuse(node_class, exc)
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, lambda num, _frame: stop.append(signal.Signals(num).name))
     try:
         node = node_class()
     except MotoflexError as exc:
-        print(f"{node_class.NAME}: error: {exc}", file=sys.stderr)
         rclpy.try_shutdown()
-        return 2
+        return _refuse(node_class, exc)
     spinner = FastSpinner(node)
     launcher = os.environ.get("MOTOFLEX_PARENT_PID")
     try:

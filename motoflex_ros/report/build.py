@@ -113,8 +113,9 @@ def _section(run_data, spec):
         return Section(section_id, title, (Missing(title, missing or f"incomplete data ({exc})"),))
 
 
-def build_report(folder, compute=True, progress=True):
-    """Write ``folder``/report.html; returns (path, sections)."""
+def build_report(folder, compute=True, progress=True, warning=None):
+    """Write ``folder``/report.html (``warning``, e.g. an incomplete run, at the top); returns
+    (path, sections)."""
     run_data = load_run_data(folder, compute=compute, progress=progress)
     sections = []
     bar = tqdm(SECTIONS, desc="report sections", unit="section", disable=not progress,
@@ -126,7 +127,7 @@ def build_report(folder, compute=True, progress=True):
         run_data.timings.append((f"section: {spec[0]}", time.perf_counter() - start))
     sections.append(Section("timings", "Timings", (tables.timings_table(run_data),)))
     sources = sorted(run_data.origins.items())
-    html = render(f"motoflex_ros run report: {folder.name}", sections, sources)
+    html = render(f"motoflex_ros run report: {folder.name}", sections, sources, warning)
     path = folder / REPORT_FILE
     atomic_write_text(path, html)
     return path, sections
