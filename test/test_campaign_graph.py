@@ -128,6 +128,7 @@ def _wait_for_recording(proc, bag, size=20000, timeout=120):
         time.sleep(0.1)
 
 
+@pytest.mark.faults
 @pytest.mark.parametrize("victim", ["load_actuator", "component_simulator",
                                     "displacement_sensor", "identification", "recorder",
                                     "SIGINT"])
@@ -164,6 +165,7 @@ def test_campaign_fault_named_and_clean(tmp_path, victim):
     assert not (bag / "identification.json").exists()
 
 
+@pytest.mark.faults
 def test_killed_launcher_leaves_no_node(tmp_path):
     """SIGKILL of the motoflex campaign process itself: its nodes notice they lost their
     launcher and stop; the bag is finished by its recorder."""
