@@ -13,11 +13,13 @@ identification node.
 
 Run on their own with ``./test.sh -m faults``.
 """
+import json
 import math
 import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -90,11 +92,31 @@ class Run:
                  "--components", COMPONENT, *args], text=True, stdout=subprocess.PIPE,
                 stderr=subprocess.PIPE, env=dict(os.environ, TMPDIR=str(tmp_path)))
         self.fault_at = None
+        self._ended = None   # (exit code, stderr, monotonic time of the exit)
+        self._waiter = threading.Thread(target=self._wait, daemon=True)
+        self._waiter.start()   # reads the pipes as they fill; notes when the campaign ended
+
+    def _wait(self):
+        try:
+            _, err = self.proc.communicate(timeout=300)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            _, err = self.proc.communicate()
+        self._ended = (self.proc.returncode, err, time.monotonic())
 
     def running(self):
         """Wait until the campaign records; returns self."""
         _wait_for_recording(self.proc, self.bag)
         return self
+
+    @classmethod
+    def together(cls, tmp_path, count):
+        """``count`` campaigns started at once (in tmp_path/0, 1...), each recording."""
+        runs = []
+        for i in range(count):
+            (tmp_path / str(i)).mkdir()
+            runs.append(cls(tmp_path / str(i)))
+        return [run.running() for run in runs]
 
     def domain_id(self):
         return domain_of(node_pid(self.tmp_path, "recorder"))
@@ -102,18 +124,13 @@ class Run:
     def fault(self):
         """Note the moment of the fault (which must find the campaign running)."""
         self.fault_at = time.monotonic()
-        assert self.proc.poll() is None, ("the campaign ended before the fault",
-                                          self.proc.communicate())
+        assert self._ended is None, ("the campaign ended before the fault", self._ended)
 
     def end(self):
-        """(exit code, stderr, seconds from the fault to the exit)."""
-        try:
-            _, err = self.proc.communicate(timeout=120)
-        finally:
-            if self.proc.poll() is None:
-                self.proc.kill()
-                self.proc.communicate()
-        return self.proc.returncode, err, time.monotonic() - self.fault_at
+        """(exit code, stderr, seconds from the fault to the exit, or None without a fault)."""
+        self._waiter.join()
+        code, err, ended_at = self._ended
+        return code, err, None if self.fault_at is None else ended_at - self.fault_at
 
     def assert_failed_cleanly(self, expected, bag_started=True):
         """The checks every fault shares; ``expected``: text the message must contain."""
@@ -150,21 +167,16 @@ def _expected_for_node(victim, signum):
     return f"stopped by {name}"
 
 
-@pytest.mark.parametrize("signum", SIGNALS, ids=lambda s: signal.Signals(s).name)
 @pytest.mark.parametrize("victim", NODES)
-def test_signal_to_node_fails_run(tmp_path, victim, signum):
-    run = Run(tmp_path).running()
-    run.fault()
-    os.kill(node_pid(tmp_path, victim), signum)
-    err = run.assert_failed_cleanly(_expected_for_node(victim, signum))
-    assert f"node '{victim}'" in err
-
-
-def test_sigterm_to_campaign_stops_every_node(tmp_path):
-    run = Run(tmp_path).running()
-    run.fault()
-    run.proc.send_signal(signal.SIGTERM)
-    run.assert_failed_cleanly("interrupted by SIGTERM")
+def test_sigint_and_sigterm_to_node_fail_run(tmp_path, victim):
+    """Two campaigns at once: SIGINT to ``victim`` in one, SIGTERM in the other."""
+    runs = Run.together(tmp_path, len(SIGNALS))
+    for run, signum in zip(runs, SIGNALS):
+        run.fault()
+        os.kill(node_pid(run.tmp_path, victim), signum)
+    for run, signum in zip(runs, SIGNALS):
+        err = run.assert_failed_cleanly(_expected_for_node(victim, signum))
+        assert f"node '{victim}'" in err
 
 
 # --- foreign publishers --------------------------------------------------------------------
@@ -212,17 +224,28 @@ def _forged(topic):
     return points_msg(0, "swingarm_clamp", [[0.5, 0.01, 0.0]] * 3), reliable_qos()
 
 
-@pytest.mark.parametrize("topic", [f"/bench/{COMPONENT}/markers/true", "/clock",
-                                   "/identification/results"])
-def test_foreign_publisher_fails_run(tmp_path, topic):
-    run = Run(tmp_path).running()
-    intruder = Intruder(run.domain_id())
+@pytest.mark.parametrize("faults", [(f"/bench/{COMPONENT}/markers/true", "/clock"),
+                                    ("/identification/results", "SIGTERM")],
+                         ids=["bench-and-clock", "results-and-sigterm"])
+def test_foreign_publishers_fail_runs(tmp_path, faults):
+    """Two campaigns at once, each with a fault: a foreign publisher on a topic (named in the
+    message as the foreign node and the topic), or SIGTERM of the campaign itself."""
+    runs = Run.together(tmp_path, len(faults))
+    intruders = []
     try:
-        intruder.publish(topic, *_forged(topic))
-        run.fault()
-        run.assert_failed_cleanly(f"foreign publisher on {topic}: node '/intruder'")
+        for run, fault in zip(runs, faults):
+            run.fault()
+            if fault == "SIGTERM":
+                run.proc.send_signal(signal.SIGTERM)
+            else:
+                intruders.append(Intruder(run.domain_id()))
+                intruders[-1].publish(fault, *_forged(fault))
+        for run, fault in zip(runs, faults):
+            run.assert_failed_cleanly("interrupted by SIGTERM" if fault == "SIGTERM" else
+                                      f"foreign publisher on {fault}: node '/intruder'")
     finally:
-        intruder.close()
+        for intruder in intruders:
+            intruder.close()
 
 
 def test_vehicle_simulator_takes_results_only_from_its_identification(tmp_path):
@@ -250,6 +273,8 @@ FORCED_DOMAIN = """import sys
 from motoflex_ros.launcher import run
 class Forced:  # the run's domain lock, forced onto a domain in use
     domain_id = int(sys.argv[1])
+    origin = "forced by the test"
+    def __init__(self, *args, **kwargs): pass
     def __enter__(self): return self
     def __exit__(self, *exc): pass
 run.DomainLock = Forced
@@ -258,18 +283,35 @@ sys.exit(main(sys.argv[2:]))
 """
 
 
-def test_two_runs_in_one_domain_both_fail(tmp_path):
+def test_two_runs_in_one_domain(tmp_path):
     """A second campaign forced into a running one's domain (it used to die with "KeyError: 8"
-    in identification): each sees the other's nodes as foreign publishers (same node names,
-    other GIDs) and stops; neither leaves a result."""
+    in identification) stops at once, naming the first run's node as a foreign publisher. The
+    first run accepts nothing of it: it fails the same way if it saw the second run's
+    publishers in time, or else ends with exactly the offline campaign's results."""
+    from test_campaign_graph import _assert_same
+
+    from motoflex_ros.bench.campaign import identify_components
+    from motoflex_ros.cli.output import to_jsonable
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()
     first = Run(tmp_path / "a").running()
     second = Run(tmp_path / "b", forced_domain=first.domain_id())
-    first.fault()
+    deadline = time.monotonic() + 60.0
+    while not list((tmp_path / "b").glob("motoflex_campaign_*/log")):   # its graph starts
+        assert time.monotonic() < deadline and second.proc.poll() is None, second.end()
+        time.sleep(0.02)
     second.fault()
-    for run in (first, second):
-        run.assert_failed_cleanly("foreign publisher on ", bag_started=run is first)
+    second.assert_failed_cleanly("foreign publisher on ", bag_started=False)
+    code, err, _ = first.end()
+    assert "Traceback" not in err
+    if code != 0:
+        assert "foreign publisher on " in err, err
+        assert not (first.bag / "identification.json").exists()
+    else:
+        offline = {n: to_jsonable(r.identification.to_dict())
+                   for n, (_, r) in identify_components([COMPONENT], seed=0).items()}
+        _assert_same(json.loads((first.bag / "identification.json").read_text()), offline)
+    assert wait_gone(str(tmp_path), 5.0) == []
 
 
 # --- bad values in messages ----------------------------------------------------------------
@@ -327,21 +369,31 @@ def _doctored_bag(tmp_path, fault, samples=BAD_SAMPLE + 100):
     return out
 
 
-@pytest.mark.parametrize("fault", FAULTS)
-def test_bad_message_values_fail_run_at_once(tmp_path, fault):
+def test_bad_message_values_fail_run_at_once(tmp_path):
     """Replayed into a fresh identification node (the first node to read them), a NaN or 1e9 N
     load, an infinite marker or a stamp that goes back stop the run, naming topic, field and
-    sample; no result file."""
-    leaf, _, expected = FAULTS[fault]
-    bag = _doctored_bag(tmp_path, fault)
-    out = tmp_path / "identified.json"
+    sample; no result file. The four replays run at the same time."""
+    procs = {}
+    for fault in FAULTS:
+        folder = tmp_path / fault
+        folder.mkdir()
+        procs[fault] = subprocess.Popen(
+            [sys.executable, "-m", "motoflex_ros.cli.main", "replay",
+             str(_doctored_bag(folder, fault)), "--identify", str(folder / "identified.json")],
+            text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+            env=dict(os.environ, TMPDIR=str(folder)))
     start = time.monotonic()
-    cli = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "replay", str(bag),
-                          "--identify", str(out)], capture_output=True, text=True, timeout=120,
-                         env=dict(os.environ, TMPDIR=str(tmp_path)))
-    assert cli.returncode != 0
-    assert time.monotonic() - start < 30.0   # start-up, a few hundred samples, the fault
-    assert f"/bench/{COMPONENT}/{leaf}: sample {BAD_SAMPLE} (stamp " in cli.stderr, cli.stderr
-    assert expected in cli.stderr and "Traceback" not in cli.stderr, cli.stderr
-    assert not out.exists()
+    for fault, proc in procs.items():
+        leaf, _, expected = FAULTS[fault]
+        try:
+            _, err = proc.communicate(timeout=120)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.communicate()
+        assert proc.returncode != 0, (fault, err)
+        assert f"/bench/{COMPONENT}/{leaf}: sample {BAD_SAMPLE} (stamp " in err, (fault, err)
+        assert expected in err and "Traceback" not in err, (fault, err)
+        assert not (tmp_path / fault / "identified.json").exists()
+    assert time.monotonic() - start < 60.0   # start-up, a few hundred samples, the fault
     assert _our_processes(str(tmp_path)) == []

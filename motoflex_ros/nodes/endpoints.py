@@ -139,16 +139,18 @@ class InputGuard:
 
 class GraphWatch:
     """Every ``period_s`` [s]: does the ROS graph show a publisher on a rig topic that is not
-    one of the run's (unknown for longer than ``grace_s`` [s]: a node writes its file a moment
-    after its publisher is created, and discovery may be quicker)? Raises ForeignPublisher."""
+    one of the run's? One whose GID no file of the run lists ``grace_s`` [s] after it was first
+    seen (a node writes its file a moment after creating the publisher, and discovery may be
+    quicker) raises ForeignPublisher, even if it is gone by then (a second run's node that
+    stopped at once on this run's messages was still there)."""
 
-    def __init__(self, node, endpoints, period_s=0.5, grace_s=1.0):
+    def __init__(self, node, endpoints, period_s=0.2, grace_s=1.0):
         self.node = node
         self.endpoints = endpoints
         self.period_s = period_s
         self.grace_s = grace_s
         self._next = 0.0
-        self._unknown = {}   # GID -> when first seen
+        self._unknown = {}   # GID -> (when first seen, topic, node label)
 
     def check(self):
         """Look at the graph if the period has passed."""
@@ -157,15 +159,16 @@ class GraphWatch:
             return
         self._next = now + self.period_s
         for topic, _ in self.node.get_topic_names_and_types():
-            if not topic.startswith(RIG_TOPIC_PREFIXES):
-                continue
-            for info in self.node.get_publishers_info_by_topic(topic):
-                gid = _gid(info)
-                if self.endpoints.owner(gid) is not None:
-                    continue
-                if now - self._unknown.setdefault(gid, now) > self.grace_s:
-                    raise ForeignPublisher(_foreign(topic, _label(info), gid,
-                                                    "seen in the ROS graph"))
+            if topic.startswith(RIG_TOPIC_PREFIXES):
+                for info in self.node.get_publishers_info_by_topic(topic):
+                    gid, first = _gid(info), self._unknown.get(_gid(info))
+                    if first is None or "_NODE_" in first[2]:   # the name may come later
+                        self._unknown[gid] = (first[0] if first else now, topic, _label(info))
+        for gid, (seen, topic, label) in list(self._unknown.items()):
+            if self.endpoints.owner(gid) is not None:
+                del self._unknown[gid]
+            elif now - seen > self.grace_s:
+                raise ForeignPublisher(_foreign(topic, label, gid, "seen in the ROS graph"))
 
 
 def _gid(info):
