@@ -6,10 +6,10 @@ Inf, out-of-range and backwards-stamped bench messages; SIGINT and SIGTERM of ea
 SIGTERM of the campaign (SIGKILL of each node, SIGINT and SIGKILL of the campaign are the
 ``faults``-marked tests of test_campaign_graph.py); two runs in one ROS domain. Each case
 checks: a non-zero exit within FAULT_S of the fault, a message naming what happened (no
-traceback), no process left, a bag that reads as it is (the recorder finished it) and no
-identification.json. The campaigns are the shortest (swingarm, --report none);
-the message faults replay a few hundred samples of bags/example, doctored, into a fresh
-identification node.
+traceback), no process left, a bag that reads as it is (the recorder finished it), status.json
+"failed" with the reason, and no identification.json. The campaigns are the shortest (swingarm,
+--report none); the message faults replay a few hundred samples of bags/example, doctored, into
+a fresh identification node.
 
 Run on their own with ``./test.sh -m faults``.
 """
@@ -33,6 +33,7 @@ from test_campaign_graph import (  # noqa: E402  (the campaign tests' helpers)
     _wait_for_recording,
 )
 
+from motoflex_ros.launcher.status import read_status  # noqa: E402
 from motoflex_ros.record import mcap_bag  # noqa: E402
 
 pytestmark = [pytest.mark.faults, pytest.mark.ros, pytest.mark.slow]
@@ -143,6 +144,9 @@ class Run:
         assert left == []
         assert_bag_readable(self.bag, bag_started)
         assert not (self.bag / "identification.json").exists()
+        status = read_status(self.bag)
+        if bag_started or status is not None:
+            assert status["status"] == "failed" and expected in status["reason"], status
         return err
 
 
@@ -379,7 +383,8 @@ def test_bad_message_values_fail_run_at_once(tmp_path):
         folder.mkdir()
         procs[fault] = subprocess.Popen(
             [sys.executable, "-m", "motoflex_ros.cli.main", "replay",
-             str(_doctored_bag(folder, fault)), "--identify", str(folder / "identified.json")],
+             str(_doctored_bag(folder, fault)), "--identify", str(folder / "identified.json"),
+             "--allow-incomplete"],   # an excerpt of a run, so without status.json
             text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
             env=dict(os.environ, TMPDIR=str(folder)))
     start = time.monotonic()

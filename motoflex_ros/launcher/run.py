@@ -2,17 +2,21 @@
 
 The run ends when the pacing node (``sim_clock``, or ``bag_replay``) exits 0. A node that dies,
 a pacing node that fails, SIGINT or SIGTERM stop every node (recorder last, so that it finishes
-the bag) and raise :class:`RunFailed` / :class:`RunInterrupted` naming what happened.
+the bag) and raise :class:`RunFailed` / :class:`RunInterrupted` naming what happened. The run's
+ROS_DOMAIN_ID (``ROS_DOMAIN_ID`` if set, else a free one: :mod:`.domain`) and DDS transport
+(:mod:`.dds`) are printed on stderr at the start.
 """
 import os
 import signal
+import sys
 import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.launcher.domain import DomainLock
+from motoflex_ros.launcher.dds import configure_dds
+from motoflex_ros.launcher.domain import DomainLock, requested_domain
 from motoflex_ros.launcher.graph import NodeDied, NodeGraph, describe_exit
 
 __all__ = ["RunFailed", "RunInterrupted", "RunResult", "run_graph"]
@@ -49,7 +53,10 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
     previous = signal.signal(signal.SIGTERM, _raise_on_sigterm)
     start = time.monotonic()
     try:
-        with DomainLock() as lock:
+        dds = configure_dds(os.environ)   # this process's monitor node; the nodes inherit it
+        with DomainLock(domain_id=requested_domain(os.environ)) as lock:
+            print(f"motoflex: ROS_DOMAIN_ID {lock.domain_id} ({lock.origin}); {dds}",
+                  file=sys.stderr, flush=True)
             graph = NodeGraph(specs, lock.domain_id, work_dir)
             try:
                 graph.start()   # inside the try: a failure half-way stops what started
@@ -77,7 +84,6 @@ def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending)
 
     from motoflex_ros.launcher.monitor import Monitor
     from motoflex_ros.nodes.endpoints import RunEndpoints
-    os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
     context = rclpy.Context()
     rclpy.init(args=[], context=context, domain_id=graph.domain_id,
                signal_handler_options=SignalHandlerOptions.NO)

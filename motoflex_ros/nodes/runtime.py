@@ -15,9 +15,11 @@
   until empty (taking each message with its publisher's GID, :mod:`.rcl_take`): one wait per
   burst instead of one executor turn per message (measured about 13x faster than
   ``SingleThreadedExecutor.spin_once``, which lost the race at about 1,500 messages/s here).
-- :func:`run_node` is every executable's ``main``: ``rclpy.init`` reads ``--ros-args``
+- :func:`run_node` is every executable's ``main``: DDS on loopback unless MOTOFLEX_DDS=network
+  (:mod:`motoflex_ros.launcher.dds`), ``rclpy.init`` reads ``--ros-args``
   (``-p``, ``--params-file``), SIGINT and SIGTERM end the loop cleanly (the node's
-  :meth:`RigNode.close` runs), a parameter error prints one line and exits with 2. A node with
+  :meth:`RigNode.close` runs), a parameter error prints one line and exits with 2;
+  ``--help`` prints the node's parameters with their defaults and exits 0. A node with
   a job of its own to finish (``ENDS_ITSELF``: a pacer, the vehicle simulator) that a signal
   stops before it finished exits with 128 + the signal's number, so that nobody takes its end
   for the end of the run; a node that serves until it is stopped (the recorder) exits 0.
@@ -39,11 +41,13 @@ from rclpy.signals import SignalHandlerOptions
 from std_msgs.msg import String
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.launcher.dds import configure_dds
 from motoflex_ros.nodes.endpoints import InputGuard, RunEndpoints
-from motoflex_ros.nodes.params import declare_parameters
+from motoflex_ros.nodes.params import declare_parameters, parameters_help
 from motoflex_ros.nodes.rcl_take import Taker
 
-__all__ = ["RigNode", "FastSpinner", "run_node", "publish_patiently", "message_class",
+__all__ = ["RigNode", "FastSpinner", "run_node", "print_help", "publish_patiently",
+           "message_class",
            "reliable_qos",
            "latched_qos", "READY_TOPIC", "ACK_TOPIC", "GAP_EXIT_CODE"]
 
@@ -275,22 +279,48 @@ def _deliver_everything(node, timeout_s=30.0):
                                     f"everything within {timeout_s:g} s")
 
 
+def _help_asked(args):
+    """Does the command line (not its ROS arguments) ask for -h / --help?"""
+    from rclpy.utilities import remove_ros_args
+    return not {"-h", "--help"}.isdisjoint(remove_ros_args(args)[1:])
+
+
+def print_help(node_class):
+    """What ``node_class`` does (its module's summary) and its parameters, on stdout."""
+    summary = (sys.modules[node_class.__module__].__doc__ or "").strip().split("\n\n")[0]
+    print(f"usage: {node_class.NAME} [--help] [--ros-args [-p NAME:=VALUE]... "
+          f"[--params-file FILE]]\n\n{summary}\n\nparameters (type and range, default: "
+          "meaning):", *parameters_help(node_class.PARAMS), sep="\n")
+
+
+def _refuse(node_class, exc):
+    """A user error before the loop: one line on stderr, exit code 2."""
+    print(f"{node_class.NAME}: error: {exc}", file=sys.stderr)
+    return 2
+
+
 _SIGNAL_NAMES = ("SIGINT", "SIGTERM")
 
 
 def run_node(node_class, args=None):
     """Run ``node_class`` until it finishes or gets SIGINT/SIGTERM; returns the exit code."""
+    if _help_asked(args):
+        print_help(node_class)
+        return 0
     stop = []
     profile = _profiler()
+    try:
+        configure_dds(os.environ)   # loopback unless MOTOFLEX_DDS=network (before rclpy.init)
+    except MotoflexError as exc:
+        return _refuse(node_class, exc)
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     for signum in (signal.Signals[n] for n in _SIGNAL_NAMES):
         signal.signal(signum, lambda num, _frame: stop.append(signal.Signals(num).name))
     try:
         node = node_class()
     except MotoflexError as exc:
-        print(f"{node_class.NAME}: error: {exc}", file=sys.stderr)
         rclpy.try_shutdown()
-        return 2
+        return _refuse(node_class, exc)
     spinner = FastSpinner(node)
     launcher = os.environ.get("MOTOFLEX_PARENT_PID")
     try:
