@@ -130,6 +130,7 @@ def _wait_for_recording(proc, bag, size=20000, timeout=120):
         time.sleep(0.1)
 
 
+@pytest.mark.faults
 @pytest.mark.parametrize("victim", ["load_actuator", "component_simulator",
                                     "displacement_sensor", "identification", "recorder",
                                     "SIGINT"])
@@ -186,6 +187,7 @@ def _failed_and_refused(bag, reason):
     assert not (bag / "report.html").exists()
 
 
+@pytest.mark.faults
 def test_sigint_right_after_identification_leaves_a_failed_run(tmp_path):
     """The issue's case: SIGINT as soon as the identification node wrote its results (before
     issue 13: a complete identification.json, and `motoflex report` exited 0 on it)."""
@@ -213,6 +215,7 @@ def test_sigint_right_after_identification_leaves_a_failed_run(tmp_path):
     assert not (tmp_path / "again.json").exists()
 
 
+@pytest.mark.faults
 def test_killed_launcher_leaves_no_node(tmp_path):
     """SIGKILL of the motoflex campaign process itself: its nodes notice they lost their
     launcher and stop; the bag is finished by its recorder."""

@@ -30,9 +30,8 @@ class FakeGraph:
 
 
 def _monitor(ready):
-    spinner = SimpleNamespace(spin_once=lambda timeout: 0)
     return SimpleNamespace(names=frozenset({"identification", "bag_replay"}), ready=set(ready),
-                           spinner=spinner)
+                           spin=lambda timeout: 0)
 
 
 def test_finisher_done_before_its_ready_message_counts_as_up():

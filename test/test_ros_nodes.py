@@ -223,23 +223,24 @@ def test_bad_protocol_file_clear_error(tmp_path, env):
     assert not (tmp_path / "run").exists()
 
 
-def test_nodes_sequence_gap_reported(tmp_path, env):
-    """DDS publication sequence numbers 1, 2, 5, 6: two messages lost, reported by topic."""
+def test_nodes_sequence_gap_reported_per_publisher(tmp_path, env):
+    """Publisher A numbers 1, 2, 5, 6 (two lost), publisher B 1, 2, 3 interleaved on the same
+    topic (none lost): counted per publisher, two gaps; per subscription B's numbers would have
+    hidden A's gap and faked others."""
     import rclpy
     from std_msgs.msg import String
 
-    from motoflex_ros.nodes.runtime import RigNode
+    from motoflex_ros.nodes.endpoints import InputGuard
     context = rclpy.Context()
     rclpy.init(args=[], context=context, domain_id=int(env["ROS_DOMAIN_ID"]))
     try:
-        node = RigNode.__new__(RigNode)
-        rclpy.node.Node.__init__(node, "gap_probe", context=context)
-        node._checked, node._last_seq, node.gaps = set(), {}, 0
+        node = rclpy.node.Node("gap_probe", context=context)
         sub = node.create_subscription(String, "/probe", lambda m: None, 10)
-        node._checked.add(sub)
-        for seq in (1, 2, 5, 6):
-            node.check_sequence(sub, {"publication_sequence_number": seq})
-        assert node.gaps == 2
+        guard = InputGuard(node, None)
+        a, b = b"A" * 16, b"B" * 16
+        for gid, seq in ((a, 1), (b, 1), (a, 2), (b, 2), (a, 5), (b, 3), (a, 6)):
+            guard.check(sub, gid, seq)
+        assert guard.gaps == 2
         node.destroy_node()
     finally:
         rclpy.shutdown(context=context)

@@ -19,10 +19,11 @@ from motoflex_ros.errors import ProtocolError
 MAX_ROTATION_RAD = 0.05  # [rad] largest end rotation of a test: small, linear deformation
 DECAY_ALIAS_SHARE = 0.01  # modes swinging more than 1 % of the largest in a decay...
 DECAY_NYQUIST_FACTOR = 2.2  # ... are sampled at 2.2 x their frequency (10 % below Nyquist)
+LOAD_MARGIN = 1.5  # a reported load may reach 1.5 x the largest commanded one
 
 __all__ = ["TestPlan", "CampaignPlan", "plan_campaign", "sweep_frequencies", "onset_times",
            "matched_amplitude", "check_linear", "protocol_error", "decay_swing_shares",
-           "MAX_ROTATION_RAD", "DECAY_ALIAS_SHARE", "DECAY_NYQUIST_FACTOR"]
+           "MAX_ROTATION_RAD", "DECAY_ALIAS_SHARE", "DECAY_NYQUIST_FACTOR", "LOAD_MARGIN"]
 
 
 @dataclass(frozen=True)
@@ -56,6 +57,13 @@ class CampaignPlan:
     def test(self, name):
         """The test called ``name``."""
         return next(t for t in self.tests if t.name == name)
+
+    @property
+    def load_limit_n(self):
+        """Largest |F_y| [N] a bench may report for this campaign: LOAD_MARGIN times the largest
+        load it commands (a measured load overshoots its command a little; a load past this is
+        a fault of the bench or of a message, and stops the run)."""
+        return LOAD_MARGIN * max((abs(t.amplitude_n) for t in self.tests), default=0.0)
 
 
 def protocol_error(protocol, key, problem):

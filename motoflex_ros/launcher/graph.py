@@ -3,7 +3,9 @@
 Every node runs as ``sys.executable -m motoflex_ros.nodes.<module> --ros-args --params-file
 <params>`` (the same interpreter, so the ROS wheels' bootstrap carries over) with its own
 ``ROS_DOMAIN_ID``, DDS on loopback (:mod:`.dds`) and ``ROS_LOG_DIR``; stdout and
-stderr go to ``<log_dir>/<node>.log``. Processes are ended by their own pid only: SIGINT, then
+stderr go to ``<log_dir>/<node>.log``. The nodes write their publishers' GIDs to
+``<work_dir>/endpoints`` and accept messages only from those
+(:mod:`motoflex_ros.nodes.endpoints`). Processes are ended by their own pid only: SIGINT, then
 SIGTERM, then SIGKILL after a grace period each.
 """
 import os
@@ -18,6 +20,7 @@ import yaml
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.launcher.dds import configure_dds
+from motoflex_ros.nodes.endpoints import ENDPOINTS_ENV
 
 __all__ = ["NodeSpec", "NodeGraph", "NodeDied", "ros_env", "describe_exit"]
 
@@ -54,9 +57,12 @@ def ros_env(domain_id, log_dir, base=None):
 
 
 def describe_exit(code):
-    """'exit 2' or 'killed by SIGKILL' for a Popen return code."""
+    """'exit 2', 'exit 143: stopped by SIGTERM' or 'killed by SIGKILL' for a Popen return
+    code."""
     if code is not None and code < 0:
         return f"killed by {signal.Signals(-code).name}"
+    if code in (128 + signal.SIGINT, 128 + signal.SIGTERM):
+        return f"exit {code}: stopped by {signal.Signals(code - 128).name}"
     return f"exit {code}"
 
 
@@ -68,6 +74,7 @@ class NodeGraph:
         self.domain_id = domain_id
         self.work_dir = Path(work_dir)
         self.log_dir = self.work_dir / "log"
+        self.endpoints_dir = self.work_dir / "endpoints"
         self.procs = {}
 
     def start(self):
@@ -75,7 +82,11 @@ class NodeGraph:
         params_dir = self.work_dir / "params"
         params_dir.mkdir(parents=True, exist_ok=True)
         self.log_dir.mkdir(parents=True, exist_ok=True)
+        self.endpoints_dir.mkdir(mode=0o700, exist_ok=True)
+        for stale in self.endpoints_dir.glob("*.json"):   # a reused work folder
+            stale.unlink()
         env = ros_env(self.domain_id, self.log_dir)
+        env[ENDPOINTS_ENV] = str(self.endpoints_dir)
         for spec in self.specs:
             params_file = params_dir / f"{spec.name}.yaml"
             params = {k: list(v) if isinstance(v, tuple) else v for k, v in spec.params.items()}
@@ -96,7 +107,8 @@ class NodeGraph:
         """Raise NodeDied naming the first node that ended (except those in ``allowed``)."""
         for name, code in self.exited().items():
             if name not in allowed:
-                raise NodeDied(f"node '{name}' died ({describe_exit(code)}); its log: "
+                verb = "stopped before the run ended" if code == 0 else "died"
+                raise NodeDied(f"node '{name}' {verb} ({describe_exit(code)}); its log: "
                                f"{self.log_dir / (name + '.log')}: {self.log_tail(name)}")
 
     def log_tail(self, name, lines=3):

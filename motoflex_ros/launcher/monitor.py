@@ -7,6 +7,7 @@ from std_msgs.msg import String
 
 from motoflex_ros.launcher.graph import NodeDied
 from motoflex_ros.nodes.conversions import time_ns
+from motoflex_ros.nodes.endpoints import GraphWatch, InputGuard
 from motoflex_ros.nodes.runtime import READY_TOPIC, FastSpinner, latched_qos
 
 __all__ = ["Monitor"]
@@ -15,8 +16,12 @@ __all__ = ["Monitor"]
 class Monitor(Node):
     """Watches a running graph from the launching process."""
 
-    def __init__(self, context, names, collect=()):
+    def __init__(self, context, names, collect=(), endpoints=None):
         super().__init__("motoflex_monitor", context=context)
+        # the run's own publishers only (a foreign /clock, results...); no gap count: the
+        # progress subscription keeps only the last /clock
+        self.guard = InputGuard(self, endpoints, count_gaps=lambda sub: False)
+        self.graph_watch = GraphWatch(self, endpoints)
         self.names = frozenset(names)
         self.ready = set()
         self.sim_ns = 0
@@ -28,7 +33,13 @@ class Monitor(Node):
             self.create_subscription(msg_type, topic, self.collected[topic].append,
                                      latched_qos())
         self.spinner = FastSpinner(self)
-        self.check_sequence = lambda sub, info: None
+
+    def spin(self, timeout_s):
+        """Handle what arrives within ``timeout_s`` [s] (the count); look for foreign
+        publishers in the graph now and then."""
+        count = self.spinner.spin_once(timeout_s)
+        self.graph_watch.check()
+        return count
 
     def _on_clock(self, msg):
         self.sim_ns = max(self.sim_ns, time_ns(msg.clock))
@@ -48,7 +59,7 @@ class Monitor(Node):
             if time.monotonic() > deadline:
                 missing = ", ".join(sorted(self.names - self.ready))
                 raise NodeDied(f"nodes not up after {timeout:g} s: {missing}")
-            self.spinner.spin_once(0.1)
+            self.spin(0.1)
 
     def follow(self, graph, pacer, duration_s, progress, finishers=()):
         """Spin until the pacing node exits; a progress bar over simulated time."""
@@ -56,7 +67,7 @@ class Monitor(Node):
         bar = _progress_bar(duration_s) if progress else None
         try:
             while True:
-                self.spinner.spin_once(0.1)
+                self.spin(0.1)
                 if bar is not None:
                     bar.update(round(self.sim_ns / 1e9, 3) - bar.n)
                 code = graph.exited().get(pacer)
@@ -87,14 +98,14 @@ class Monitor(Node):
                 late = ", ".join(n for n in done if n not in exited)
                 raise NodeDied(f"nodes not finished after {timeout:g} s: {late}")
             graph.check_alive(allowed=done)
-            self.spinner.spin_once(0.1)
+            self.spin(0.1)
 
     def drain(self, graph, done, timeout):
         """Handle what is still in flight after the run ended (short quiet period)."""
         deadline = time.monotonic() + timeout
         quiet = 0
         while quiet < 3 and time.monotonic() < deadline:
-            quiet = quiet + 1 if self.spinner.spin_once(0.1) == 0 else 0
+            quiet = quiet + 1 if self.spin(0.1) == 0 else 0
             graph.check_alive(allowed=done)
 
 

@@ -83,11 +83,13 @@ def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending)
     from rclpy.signals import SignalHandlerOptions
 
     from motoflex_ros.launcher.monitor import Monitor
+    from motoflex_ros.nodes.endpoints import RunEndpoints
     context = rclpy.Context()
     rclpy.init(args=[], context=context, domain_id=graph.domain_id,
                signal_handler_options=SignalHandlerOptions.NO)
     try:
-        monitor = Monitor(context, [s.name for s in graph.specs], collect)
+        monitor = Monitor(context, [s.name for s in graph.specs], collect,
+                          RunEndpoints(graph.endpoints_dir))
         finishers, finish_timeout, drain_timeout = ending
         monitor.wait_ready(graph, pacer, ready_timeout, finishers)
         monitor.follow(graph, pacer, duration_s, progress, finishers)

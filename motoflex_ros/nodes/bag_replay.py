@@ -22,6 +22,7 @@ class BagReplay(RigNode):
     """Publishes the messages of a bag, paced by acknowledgements or by the wall clock."""
 
     NAME = "bag_replay"
+    ENDS_ITSELF = True
     PARAMS = (
         Param("bag", "", description="bag directory to replay"),
         Param("rate", 0.0, 0.0, 1000.0, description="replay speed (0: lock-step, fastest)"),

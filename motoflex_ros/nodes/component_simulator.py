@@ -2,7 +2,8 @@
 
 For each sample (phase + load of /bench/<c>/), steps the core's ComponentSimulator and
 publishes the true marker positions on /bench/<c>/markers/true (geometry_msgs/PoseArray,
-clamp frame), stamped with the load's time.
+clamp frame), stamped with the load's time. A load that is not finite, beyond the protocol's
+range or stamped before the previous one stops the node (:mod:`.message_checks`).
 """
 import sys
 
@@ -16,8 +17,8 @@ from motoflex_ros.nodes.conversions import (
     is_end_marker,
     points_cdr,
     sample_from_phase,
-    wrench_from_cdr,
 )
+from motoflex_ros.nodes.message_checks import BenchInputs
 from motoflex_ros.nodes.runtime import RigNode, run_node
 
 __all__ = ["ComponentSimulatorNode", "main"]
@@ -49,11 +50,12 @@ class ComponentSimulatorNode(RigNode):
         setup = self.setups[component]
         q0 = np.asarray(setup.reduced.q0, float)
         offsets = np.asarray(setup.protocol.sensor.markers, float)
+        checked = BenchInputs(component, setup.plan.load_limit_n)
 
         def handle(phase, inputs):
             if "load" not in inputs:
                 return
-            ns, force = wrench_from_cdr(inputs["load"])
+            ns, force = checked.load(inputs["load"])
             sample, _ = sample_from_phase(phase, force)
             motion = self.sims[component].step(sample)
             markers = marker_positions(q0 + motion[:3], rotation_from_vector(motion[3:]), q0,

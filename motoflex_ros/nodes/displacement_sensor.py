@@ -5,7 +5,8 @@ true markers (noise, resolution, latency) and the node publishes what the sensor
 that sample: all delivered marker sets in one
 /bench/<c>/markers/measured (geometry_msgs/PoseArray, possibly empty while the latency runs)
 and, per delivered measurement, the fitted pose on /bench/<c>/pose (PoseStamped). At the end
-marker it flushes the sensor.
+marker it flushes the sensor. True markers that are not finite or stamped before the previous
+ones stop the node (:mod:`.message_checks`).
 """
 import sys
 
@@ -18,10 +19,10 @@ from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.conversions import (
     is_end_marker,
     points_cdr,
-    points_from_cdr,
     pose_cdr,
     sample_from_phase,
 )
+from motoflex_ros.nodes.message_checks import BenchInputs
 from motoflex_ros.nodes.runtime import RigNode, run_node
 
 __all__ = ["DisplacementSensorNode", "main"]
@@ -53,6 +54,7 @@ class DisplacementSensorNode(RigNode):
     def _handler(self, component):
         sensor = self.sensors[component]
         frame = frame_id(component)
+        checked = BenchInputs(component, self.setups[component].plan.load_limit_n)
 
         def handle(phase, inputs):
             if "true" not in inputs:
@@ -60,7 +62,7 @@ class DisplacementSensorNode(RigNode):
                 delivered = sensor.flush()
             else:
                 sample, _ = sample_from_phase(phase, 0.0)
-                ns, true_markers = points_from_cdr(inputs["true"])
+                ns, true_markers = checked.markers("markers/true", inputs["true"])
                 delivered = sensor.capture_markers(sample.index, sample.t, true_markers)
             markers = [m.markers for m in delivered]
             self.measured_pubs[component].publish(

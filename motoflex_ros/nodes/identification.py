@@ -7,6 +7,8 @@ and feeds the core's streaming Identifier, then acknowledges the sample on /rig/
 component's end marker it computes l, beta, b, k, c, J, k_t, k_b (core identify_component),
 publishes them on /identification/results (diagnostic_msgs/DiagnosticArray, one status per
 test, KeyValue values) and, once every component is done, writes ``result_file`` atomically.
+Loads and measured markers that are not finite, loads beyond the protocol's range and stamps
+that go back stop the node at that message (:mod:`.message_checks`), before the core sees it.
 """
 import sys
 
@@ -20,12 +22,11 @@ from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.conversions import (
     identification_statuses,
     is_end_marker,
-    points_from_cdr,
     sample_from_phase,
     time_msg,
-    wrench_from_cdr,
 )
 from motoflex_ros.nodes.load_actuator import may_end_test
+from motoflex_ros.nodes.message_checks import BenchInputs
 from motoflex_ros.nodes.params import Param
 from motoflex_ros.nodes.runtime import ACK_TOPIC, RigNode, latched_qos, run_node
 from motoflex_ros.results_file import write_results
@@ -49,11 +50,13 @@ class IdentificationNode(RigNode):
         from motoflex_ros.identify.identifier import Identifier
         super().__init__()
         self.setups = campaign_setups(self.params)
+        self.ENDS_ITSELF = self.params["exit_when_done"]   # a job to finish: replay --identify
         self.identifiers = {c: Identifier(s.reduced.q0, s.protocol.harmonic)
                             for c, s in self.setups.items()}
         self.fitters = {c: MarkerSensor(s.protocol.sensor, s.reduced.q0)
                         for c, s in self.setups.items()}
         self.count = dict.fromkeys(self.setups, 0)
+        self.checked = {c: BenchInputs(c, s.plan.load_limit_n) for c, s in self.setups.items()}
         self.results = {}
         self.unacked = {}
         self.ack_pub = self.advertise(KeyValue, ACK_TOPIC)
@@ -70,9 +73,10 @@ class IdentificationNode(RigNode):
 
     def _handler(self, component):
         identifier = self.identifiers[component]
+        checked = self.checked[component]
 
         def handle(phase, inputs):
-            ns, force = wrench_from_cdr(inputs["load"]) if "load" in inputs else (None, 0.0)
+            ns, force = checked.load(inputs["load"]) if "load" in inputs else (None, 0.0)
             sample, end_ns = sample_from_phase(phase, force)
             if sample is not None:
                 identifier.add_load(sample)
@@ -90,7 +94,7 @@ class IdentificationNode(RigNode):
     def _measurements(self, component, data):
         fitter, identifier = self.fitters[component], self.identifiers[component]
         n = len(fitter.offsets)
-        stamp_ns, points = points_from_cdr(data)
+        stamp_ns, points = self.checked[component].markers("markers/measured", data)
         settled = []
         for chunk in np.split(points, len(points) // n) if len(points) else []:
             measurement = fitter.measurement(self.count[component], stamp_ns / 1e9, chunk)

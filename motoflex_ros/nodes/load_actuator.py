@@ -39,6 +39,7 @@ class LoadActuatorNode(RigNode):
     """Drives the bench: per component, one sample out, one acknowledgement back."""
 
     NAME = "load_actuator"
+    ENDS_ITSELF = True
     PARAMS = BENCH_PARAMS + (
         Param("ack_from", "identification", description="node whose ack paces the run"),
         Param("wait_for", (), description="nodes that must be ready before the first sample"),

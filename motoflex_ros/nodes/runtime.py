@@ -1,25 +1,28 @@
 """Plumbing shared by every node: base class, fast message loop, gap detection, ``main``.
 
 - :class:`RigNode` declares and validates the node's parameters (:mod:`.params`), turns on
-  ``use_sim_time`` unless told otherwise, creates reliable keep-all publishers and
-  subscriptions, checks the DDS publication sequence number of every received message and
-  reports each gap (lost messages), and announces on ``/rig/ready`` once every subscription
-  sees a publisher and every publisher is matched with each subscriber the graph knows on its
-  topic (a reliable, volatile publisher drops what it sends before the match: a worker whose
-  reader matched only after the first window of samples went by stalled the run). A writer
-  whose participant has not yet discovered a reader still counts as matched, so the condition
-  must also have held for READY_HOLD_S: the two directions of discovery are milliseconds
-  apart, and the recorder's subscriptions, created when it discovers a topic, were matched by
-  their writers a few tens of samples late (the run's zero-loss check failed) without it.
+  ``use_sim_time`` unless told otherwise, creates reliable keep-all publishers and subscriptions,
+  accepts messages only from its own run's publishers and counts lost messages per publisher
+  (:mod:`.endpoints`: a foreign publisher fails the run), and announces on ``/rig/ready`` once
+  every subscription sees a publisher and every publisher is matched with each subscriber the graph
+  knows on its topic (a reliable, volatile publisher drops what it sends before the match: a worker
+  whose reader matched only after the first window of samples went by stalled the run). A writer
+  whose participant has not yet discovered a reader still counts as matched, so the condition must
+  also have held for READY_HOLD_S: the two directions of discovery are milliseconds apart, and the
+  recorder's subscriptions, created when it discovers a topic, were matched by their writers a few
+  tens of samples late (the run's zero-loss check failed) without it.
 - :class:`FastSpinner` waits on all subscriptions of a node and then drains each ready one
-  with ``take_message`` until empty: one wait per burst instead of one executor turn per
-  message (measured about 13x faster than ``SingleThreadedExecutor.spin_once``, which lost the
-  race at about 1,500 messages/s here).
+  until empty (taking each message with its publisher's GID, :mod:`.rcl_take`): one wait per
+  burst instead of one executor turn per message (measured about 13x faster than
+  ``SingleThreadedExecutor.spin_once``, which lost the race at about 1,500 messages/s here).
 - :func:`run_node` is every executable's ``main``: DDS on loopback unless MOTOFLEX_DDS=network
   (:mod:`motoflex_ros.launcher.dds`), ``rclpy.init`` reads ``--ros-args``
   (``-p``, ``--params-file``), SIGINT and SIGTERM end the loop cleanly (the node's
   :meth:`RigNode.close` runs), a parameter error prints one line and exits with 2;
-  ``--help`` prints the node's parameters with their defaults and exits 0.
+  ``--help`` prints the node's parameters with their defaults and exits 0. A node with
+  a job of its own to finish (``ENDS_ITSELF``: a pacer, the vehicle simulator) that a signal
+  stops before it finished exits with 128 + the signal's number, so that nobody takes its end
+  for the end of the run; a node that serves until it is stopped (the recorder) exits 0.
 """
 import importlib
 import os
@@ -33,12 +36,15 @@ from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
 from rclpy.signals import SignalHandlerOptions
 from std_msgs.msg import String
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.launcher.dds import configure_dds
+from motoflex_ros.nodes.endpoints import InputGuard, RunEndpoints
 from motoflex_ros.nodes.params import declare_parameters, parameters_help
+from motoflex_ros.nodes.rcl_take import Taker
 
 __all__ = ["RigNode", "FastSpinner", "run_node", "print_help", "publish_patiently",
            "message_class",
@@ -78,6 +84,7 @@ class RigNode(Node):
     PARAMS = ()
 
     NAME = "node"
+    ENDS_ITSELF = False   # does the node finish on its own (``finished``)? see run_node
 
     def __init__(self, name=None):
         super().__init__(name or self.NAME)
@@ -86,9 +93,9 @@ class RigNode(Node):
         self.params = declare_parameters(self, self.PARAMS)
         self.finished = False
         self.exit_code = 0
-        self.gaps = 0
-        self._last_seq = {}
         self._checked = set()
+        self.guard = InputGuard(self, RunEndpoints.from_environment(self.get_name()),
+                                count_gaps=self._checked.__contains__)
         self._ready_sent = False
         self._ready_since = None
         self._ready_pub = self.create_publisher(String, READY_TOPIC, latched_qos())
@@ -98,11 +105,14 @@ class RigNode(Node):
         self._processed_ns = None
         self._acked_ns = None
 
-    def subscribe(self, msg_type, topic, callback, raw=False, qos=None):
-        """Reliable keep-all subscription whose sequence numbers are checked for gaps."""
+    def subscribe(self, msg_type, topic, callback, raw=False, qos=None, publishers=None):
+        """Reliable keep-all subscription whose sequence numbers are checked for gaps; with
+        ``publishers`` (node names) it accepts only those of the run's nodes."""
         sub = self.create_subscription(msg_type, topic, callback, qos or reliable_qos(),
                                        raw=raw)
         self._checked.add(sub)
+        if publishers is not None:
+            self.guard.only_from(sub, publishers)
         return sub
 
     def advertise(self, msg_type, topic, qos=None):
@@ -111,20 +121,18 @@ class RigNode(Node):
         self._advertised.append(publisher)
         return publisher
 
-    def check_sequence(self, sub, info):
-        """Count and report messages lost on ``sub`` (DDS publication sequence numbers)."""
-        if sub not in self._checked:
-            return
-        seq = info.get("publication_sequence_number")
-        if seq is None:
-            return
-        last = self._last_seq.get(sub, 0)
-        if seq > last + 1:
-            lost = seq - last - 1
-            self.gaps += lost
-            self.get_logger().error(f"gap on {sub.topic_name}: {lost} message(s) lost "
-                                    f"(sequence {last} -> {seq})")
-        self._last_seq[sub] = max(seq, last)
+    def create_publisher(self, *args, **kwargs):
+        """Node.create_publisher; the publisher is written down as one of the run's."""
+        publisher = super().create_publisher(*args, **kwargs)
+        guard = getattr(self, "guard", None)   # rclpy's own publishers come before it
+        if guard is not None and guard.endpoints is not None:
+            guard.endpoints.register(publisher)
+        return publisher
+
+    @property
+    def gaps(self):
+        """Messages lost so far (over every publisher of every checked subscription)."""
+        return self.guard.gaps
 
     def inputs_ready(self):
         """True when every checked subscription sees at least one publisher and every
@@ -201,9 +209,11 @@ class FastSpinner:
     with n subscriptions costs about 5 n us; trying the others too would cost as much again
     for the recorder's 22)."""
 
-    def __init__(self, node):
+    def __init__(self, node, check=None):
         self._rclpy = rclpy_implementation
         self.node = node
+        self.check = check or node.guard.check   # (sub, publisher GID, sequence number)
+        self._takers = {}
 
     def spin_once(self, timeout_s):
         """Handle every message available within ``timeout_s`` [s]; returns the count."""
@@ -221,14 +231,15 @@ class FastSpinner:
 
     def _drain(self, sub):
         count = 0
-        handle, msg_type, raw, callback = sub.handle, sub.msg_type, sub.raw, sub.callback
-        check = self.node.check_sequence
+        taker = self._takers.get(sub) or self._takers.setdefault(sub, Taker(sub))
+        msg_type, raw, callback, check = sub.msg_type, sub.raw, sub.callback, self.check
         while True:
-            taken = handle.take_message(msg_type, raw)
+            taken = taker.take()
             if taken is None:
                 return count
-            check(sub, taken[1])
-            callback(taken[0])
+            data, gid, seq = taken
+            check(sub, gid, seq)   # before the message is used: a foreign one stops the run
+            callback(data if raw else deserialize_message(data, msg_type))
             count += 1
 
 
@@ -288,6 +299,9 @@ def _refuse(node_class, exc):
     return 2
 
 
+_SIGNAL_NAMES = ("SIGINT", "SIGTERM")
+
+
 def run_node(node_class, args=None):
     """Run ``node_class`` until it finishes or gets SIGINT/SIGTERM; returns the exit code."""
     if _help_asked(args):
@@ -300,7 +314,7 @@ def run_node(node_class, args=None):
     except MotoflexError as exc:
         return _refuse(node_class, exc)
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
-    for signum in (signal.SIGINT, signal.SIGTERM):
+    for signum in (signal.Signals[n] for n in _SIGNAL_NAMES):
         signal.signal(signum, lambda num, _frame: stop.append(signal.Signals(num).name))
     try:
         node = node_class()
@@ -321,7 +335,12 @@ def run_node(node_class, args=None):
     finally:
         if node.finished:
             _deliver_everything(node)
-        node.close(stop[0] if stop else "finished")
+        reason = stop[0] if stop else "finished"
+        if stop:
+            node.get_logger().info(f"stopped by {reason}")
+            if node.ENDS_ITSELF and reason in _SIGNAL_NAMES and not node.exit_code:
+                node.exit_code = 128 + signal.Signals[reason].value
+        node.close(reason)
         name = node.get_name()
         node.destroy_node()
         rclpy.try_shutdown()

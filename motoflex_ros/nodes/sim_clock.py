@@ -22,6 +22,7 @@ class SimClock(RigNode):
     """Publishes /clock at k * dt for k = 0..duration/dt, paced by acknowledgements."""
 
     NAME = "sim_clock"
+    ENDS_ITSELF = True
     PARAMS = (
         Param("dt", 0.001, 1e-6, 1.0, description="step of simulated time [s]"),
         Param("duration", 1.0, 0.0, 1e6, description="simulated time of the run [s]"),

@@ -1,8 +1,8 @@
 """vehicle_simulator: the motorcycle with the identified lumped stiffness, over speed and on road.
 
-Waits for the identified parameters of ``components`` (on /identification/results, or from
-``result_file`` if given), builds the lumped ``variant`` of ``vehicle`` with the core
-(build_variant), and publishes:
+Waits for the identified parameters of ``components`` (on /identification/results, from its
+run's identification node only, or from ``result_file`` if given), builds the lumped
+``variant`` of ``vehicle`` with the core (build_variant), and publishes:
 
 - /vehicle/eigenvalues (diagnostic_msgs/DiagnosticArray): weave, wobble and capsize eigenvalues
   from ``speed_min_kmh`` to ``speed_max_kmh`` (step ``speed_step_kmh``), tracked by mode shape;
@@ -50,6 +50,7 @@ class VehicleSimulatorNode(RigNode):
     """Identified parameters in, stability and road test out."""
 
     NAME = "vehicle_simulator"
+    ENDS_ITSELF = True
     PARAMS = (
         Param("components", MOTORCYCLE_COMPONENTS,
               description="components whose identified models go into the vehicle"),
@@ -84,7 +85,7 @@ class VehicleSimulatorNode(RigNode):
             self.identified = json.loads(Path(p["result_file"]).read_text())
         else:
             self.subscribe(DiagnosticArray, "/identification/results", self._on_results,
-                           qos=latched_qos())
+                           qos=latched_qos(), publishers=("identification",))
 
     def _on_results(self, msg):
         self.identified.update(results_from_statuses(msg.status))

@@ -1,0 +1,186 @@
+"""Who may publish to a rig node: the publishers of its own run, by GID, and nobody else.
+
+The launcher gives every process of a run the folder ``$MOTOFLEX_ENDPOINTS`` (inside the run's
+private work folder). Each node writes there, atomically, ``<node>.json``: {GID hex: topic} of
+every publisher it creates, before it publishes anything on it. A node's :class:`InputGuard`
+takes each message with its publisher's GID (:mod:`.rcl_take`) and accepts it only if one of
+the run's files lists that GID (an unknown GID makes it read the folder again once: a
+publisher is always written down before its first message). Any other publisher on a topic
+the node reads, a stray node or a second run in the same ROS domain, fails the run with
+:class:`ForeignPublisher` naming the topic and the foreign node, before its message is used.
+The trust comes from the file system, not from DDS: a foreign process cannot put its GID there
+(the folder is the launcher's own, mode 0700).
+
+The launcher's monitor also watches the ROS graph (:class:`GraphWatch`): a publisher on a rig
+topic whose GID none of the run's files lists fails the run even before it sends anything (a
+second run forced into the same domain is refused by the first, not only the other way round).
+
+The guard also counts lost messages per publisher (DDS publication sequence numbers are per
+writer; counted per subscription, two writers on one topic hid and faked gaps).
+
+Without ``$MOTOFLEX_ENDPOINTS`` (a node started on its own, a real bench) every publisher is
+accepted; the gap count stays per publisher.
+"""
+import json
+import os
+import time
+from pathlib import Path
+
+from motoflex_ros.errors import MotoflexError
+from motoflex_ros.files import atomic_write_text
+from motoflex_ros.nodes.rcl_take import GID_SIZE, gid_text, publisher_gid
+
+__all__ = ["ENDPOINTS_ENV", "ForeignPublisher", "RunEndpoints", "InputGuard", "GraphWatch",
+           "RIG_TOPIC_PREFIXES"]
+
+ENDPOINTS_ENV = "MOTOFLEX_ENDPOINTS"
+NAME_WAIT_S = 1.0   # longest wait for the graph to name a foreign publisher's node [s]
+RIG_TOPIC_PREFIXES = ("/bench/", "/clock", "/identification/", "/vehicle/", "/rig/")
+
+
+class ForeignPublisher(MotoflexError):
+    """A message came from a publisher that is not one of the run's own."""
+
+
+class RunEndpoints:
+    """The publisher GIDs of one run, as its nodes wrote them to ``folder``."""
+
+    def __init__(self, folder, node_name=None):
+        self.folder = Path(folder)
+        self.node_name = node_name
+        self.own = {}
+        self.owners = {}   # GID bytes -> node name
+
+    @classmethod
+    def from_environment(cls, node_name=None):
+        """The run's endpoints if the launcher set ``$MOTOFLEX_ENDPOINTS``, else None."""
+        folder = os.environ.get(ENDPOINTS_ENV)
+        return cls(folder, node_name) if folder else None
+
+    def register(self, publisher):
+        """Write down one of this node's publishers (call before it publishes)."""
+        gid = publisher_gid(publisher)
+        self.own[gid.hex()] = publisher.topic_name
+        self.owners[gid] = self.node_name
+        atomic_write_text(self.folder / f"{self.node_name}.json", json.dumps(self.own))
+
+    def owner(self, gid):
+        """Name of the run's node that owns publisher ``gid`` (bytes), or None."""
+        if gid not in self.owners:
+            self.reload()
+        return self.owners.get(gid)
+
+    def reload(self):
+        """Read every node's file again."""
+        for path in self.folder.glob("*.json"):
+            try:
+                gids = json.loads(path.read_text())
+            except (OSError, ValueError):
+                continue   # a file of a node that is going away; the next miss reads again
+            self.owners.update({bytes.fromhex(g): path.stem for g in gids})
+
+
+class InputGuard:
+    """Per message: is its publisher one of the run's (else ForeignPublisher), and did that
+    publisher's sequence numbers skip (lost messages, counted in ``gaps``)?"""
+
+    def __init__(self, node, endpoints, count_gaps=lambda sub: True):
+        self.node = node
+        self.endpoints = endpoints
+        self.count_gaps = count_gaps
+        self.gaps = 0
+        self._last_seq = {}
+        self._trusted = set()
+        self._only = {}   # subscription -> names of the run's nodes it accepts
+
+    def only_from(self, sub, names):
+        """Accept on ``sub`` only messages of the run's nodes called ``names``."""
+        self._only[sub] = frozenset(names)
+
+    def check(self, sub, gid, seq):
+        """Raise ForeignPublisher for a message of ``sub`` from an unknown publisher; count a
+        gap in the sequence numbers of its publisher."""
+        if self.endpoints is not None and gid not in self._trusted:
+            if self.endpoints.owner(gid) is None:
+                raise ForeignPublisher(self.describe_foreign(sub.topic_name, gid))
+            self._trusted.add(gid)
+        only = self._only.get(sub)
+        if only is not None and self.endpoints is not None and \
+                self.endpoints.owner(gid) not in only:
+            raise ForeignPublisher(f"{sub.topic_name}: node '{self.endpoints.owner(gid)}' of "
+                                   f"this run published here; only {', '.join(sorted(only))} "
+                                   f"may; its message was refused and the run stopped")
+        if not seq or not self.count_gaps(sub):
+            return
+        key = (sub, gid)
+        last = self._last_seq.get(key, 0)
+        if seq > last + 1:
+            lost = seq - last - 1
+            self.gaps += lost
+            self.node.get_logger().error(f"gap on {sub.topic_name}: {lost} message(s) lost "
+                                         f"(publisher {gid_text(gid)}, sequence {last} -> "
+                                         f"{seq})")
+        self._last_seq[key] = max(seq, last)
+
+    def describe_foreign(self, topic, gid):
+        """The ForeignPublisher message for a message on ``topic`` from ``gid``."""
+        return _foreign(topic, self._node_of(topic, gid), gid, "its message was refused")
+
+    def _node_of(self, topic, gid):
+        deadline = time.monotonic() + NAME_WAIT_S
+        while True:
+            for info in self.node.get_publishers_info_by_topic(topic):
+                if _gid(info) == gid and not info.node_name.startswith("_NODE_"):
+                    return _label(info)
+            if time.monotonic() > deadline:
+                return "a node the ROS graph does not name"
+            time.sleep(0.05)
+
+
+class GraphWatch:
+    """Every ``period_s`` [s]: does the ROS graph show a publisher on a rig topic that is not
+    one of the run's? One whose GID no file of the run lists ``grace_s`` [s] after it was first
+    seen (a node writes its file a moment after creating the publisher, and discovery may be
+    quicker) raises ForeignPublisher, even if it is gone by then (a second run's node that
+    stopped at once on this run's messages was still there)."""
+
+    def __init__(self, node, endpoints, period_s=0.2, grace_s=1.0):
+        self.node = node
+        self.endpoints = endpoints
+        self.period_s = period_s
+        self.grace_s = grace_s
+        self._next = 0.0
+        self._unknown = {}   # GID -> (when first seen, topic, node label)
+
+    def check(self):
+        """Look at the graph if the period has passed."""
+        now = time.monotonic()
+        if self.endpoints is None or now < self._next:
+            return
+        self._next = now + self.period_s
+        for topic, _ in self.node.get_topic_names_and_types():
+            if topic.startswith(RIG_TOPIC_PREFIXES):
+                for info in self.node.get_publishers_info_by_topic(topic):
+                    gid, first = _gid(info), self._unknown.get(_gid(info))
+                    if first is None or "_NODE_" in first[2]:   # the name may come later
+                        self._unknown[gid] = (first[0] if first else now, topic, _label(info))
+        for gid, (seen, topic, label) in list(self._unknown.items()):
+            if self.endpoints.owner(gid) is not None:
+                del self._unknown[gid]
+            elif now - seen > self.grace_s:
+                raise ForeignPublisher(_foreign(topic, label, gid, "seen in the ROS graph"))
+
+
+def _gid(info):
+    return bytes(info.endpoint_gid[:GID_SIZE])
+
+
+def _label(info):
+    """"node '/ns/name'" of a TopicEndpointInfo."""
+    return f"node '{info.node_namespace.rstrip('/')}/{info.node_name}'"
+
+
+def _foreign(topic, label, gid, what):
+    return (f"foreign publisher on {topic}: {label} (GID {gid_text(gid)}) is not one of this "
+            f"run's nodes; {what} and the run stopped (another run in this ROS domain, or a "
+            f"stray publisher?)")

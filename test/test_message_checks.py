@@ -1,0 +1,118 @@
+"""Message values and publisher trust, without ROS processes (issue 13, points 2 and 6).
+
+The graph-level cases (a running campaign, a replayed bag) are in test_faults.py.
+"""
+import json
+import math
+from types import SimpleNamespace
+
+import pytest
+
+pytest.importorskip("rclpy")
+from motoflex_ros.nodes.conversions import points_cdr, wrench_cdr  # noqa: E402
+from motoflex_ros.nodes.endpoints import ForeignPublisher, InputGuard, RunEndpoints  # noqa: E402
+from motoflex_ros.nodes.message_checks import BadMessage, BenchInputs  # noqa: E402
+
+LOAD = "/bench/swingarm/load: sample"
+
+
+def _inputs():
+    return BenchInputs("swingarm", 150.0)
+
+
+def test_good_messages_pass_unchanged():
+    checked = _inputs()
+    assert checked.load(wrench_cdr(5, "c", -150.0)) == (5, -150.0)
+    assert checked.load(wrench_cdr(5, "c", 20.0)) == (5, 20.0)   # the same stamp again: ok
+    ns, points = checked.markers("markers/true", points_cdr(7, "c", [[1.0, 2.0, 3.0]]))
+    assert ns == 7 and points.tolist() == [[1.0, 2.0, 3.0]]
+    assert checked.markers("markers/measured", points_cdr(7, "c", []))[1].shape == (0, 3)
+
+
+@pytest.mark.parametrize("force, expected", [
+    (math.nan, f"{LOAD} 1 (stamp 0.000000002 s): wrench.force.y = nan is not a finite number"),
+    (-math.inf, "wrench.force.y = -inf is not a finite number"),
+    (1e9, "wrench.force.y = 1e+09 N is beyond the protocol's range (|F_y| <= 150 N)"),
+    (-150.001, "is beyond the protocol's range"),
+])
+def test_bad_loads_refused_naming_topic_field_sample(force, expected):
+    checked = _inputs()
+    checked.load(wrench_cdr(1, "c", 0.0))
+    with pytest.raises(BadMessage, match="message refused, run stopped") as err:
+        checked.load(wrench_cdr(2, "c", force))
+    assert expected in str(err.value)
+
+
+def test_markers_not_finite_refused_with_index_and_axis():
+    checked = _inputs()
+    with pytest.raises(BadMessage) as err:
+        checked.markers("markers/true", points_cdr(3, "c", [[0, 0, 0], [0, math.nan, 0]]))
+    assert ("/bench/swingarm/markers/true: sample 0 (stamp 0.000000003 s): "
+            "poses[1].position.y = nan is not a finite number") in str(err.value)
+
+
+def test_stamps_going_back_refused_per_topic():
+    checked = _inputs()
+    checked.load(wrench_cdr(2_000_000_000, "c", 0.0))
+    checked.markers("markers/true", points_cdr(1_000_000_000, "c", []))   # another topic: ok
+    with pytest.raises(BadMessage) as err:
+        checked.load(wrench_cdr(1_999_999_999, "c", 0.0))
+    assert (f"{LOAD} 1 (stamp 1.999999999 s): header.stamp = 1.999999999 s goes back from "
+            f"2.000000000 s") in str(err.value)
+
+
+def test_load_limit_is_the_protocols_largest_load_with_margin():
+    from motoflex_ros.bench.campaign import setup_campaign
+    from motoflex_ros.bench.plan import LOAD_MARGIN
+    plan = setup_campaign("swingarm").plan
+    largest = max(abs(t.amplitude_n) for t in plan.tests)
+    assert plan.load_limit_n == pytest.approx(LOAD_MARGIN * largest) and largest > 0
+
+
+class _Sub:
+    def __init__(self, topic_name):
+        self.topic_name = topic_name
+
+
+class _Node:
+    """What the guard uses of a node: a logger and the graph's publisher endpoints."""
+
+    def __init__(self, endpoints=()):
+        self.errors = []
+        self.endpoints = list(endpoints)
+
+    def get_logger(self):
+        return SimpleNamespace(error=self.errors.append)
+
+    def get_publishers_info_by_topic(self, topic):
+        return self.endpoints
+
+
+def test_guard_accepts_the_runs_publishers_and_refuses_others(tmp_path):
+    ours, theirs = bytes(range(16)), bytes(range(1, 17))
+    (tmp_path / "load_actuator.json").write_text(json.dumps({ours.hex(): "/clock"}))
+    foreign = SimpleNamespace(endpoint_gid=list(theirs), node_name="intruder",
+                              node_namespace="/")
+    guard = InputGuard(_Node([foreign]), RunEndpoints(tmp_path))
+    sub = _Sub("/clock")
+    guard.check(sub, ours, 1)
+    with pytest.raises(ForeignPublisher) as err:
+        guard.check(sub, theirs, 1)
+    assert str(err.value).startswith("foreign publisher on /clock: node '/intruder' (GID "
+                                     "01.02.03")
+    # a publisher written down after the guard last read the folder: found on a second read
+    (tmp_path / "recorder.json").write_text(json.dumps({theirs.hex(): "/clock"}))
+    guard.check(sub, theirs, 2)
+
+
+def test_guard_only_from_names_the_node_it_refuses(tmp_path):
+    results, other = bytes(16), bytes(range(16))
+    (tmp_path / "identification.json").write_text(json.dumps({results.hex(): "/r"}))
+    (tmp_path / "bag_replay.json").write_text(json.dumps({other.hex(): "/r"}))
+    guard = InputGuard(_Node(), RunEndpoints(tmp_path))
+    sub = _Sub("/r")
+    guard.only_from(sub, ("identification",))
+    guard.check(sub, results, 1)
+    with pytest.raises(ForeignPublisher, match="node 'bag_replay' of this run published here; "
+                                               "only identification may"):
+        guard.check(sub, other, 1)
