@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from motoflex_ros.config import Field, number, resolve_config, validate
-from motoflex_ros.errors import ConfigError
+from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.structures.assembly import Structure
 from motoflex_ros.structures.beam import Material, tube_section
 from motoflex_ros.structures.clamped import reduce_clamped
@@ -90,7 +90,11 @@ class Component:
         asm = self.assembled()
         boundary = np.concatenate([asm.node_dofs(n) for n in self.interface_nodes])
         zeta = self.damping_ratio if zeta is None else zeta
-        cb = craig_bampton(asm.K, asm.M, boundary, n_modes, f_max_hz, zeta)
+        try:
+            cb = craig_bampton(asm.K, asm.M, boundary, n_modes, f_max_hz, zeta)
+        except ModelError as exc:   # e.g. a singular interior stiffness: name the file
+            raise ModelError(f"{self.source or self.name}: {exc} (check members, springs, "
+                             f"rigid_links and interfaces.clamps)") from None
         self._check_damping_count(cb)
         return cb, asm
 
