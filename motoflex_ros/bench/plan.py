@@ -15,6 +15,7 @@ from motoflex_ros.bench.modes import clamped_modes
 from motoflex_ros.bench.protocols import MATCH_STATIC
 from motoflex_ros.bench.response import harmonic_peak_motion
 from motoflex_ros.errors import ProtocolError
+from motoflex_ros.limits import check_limit
 
 MAX_ROTATION_RAD = 0.05  # [rad] largest end rotation of a test: small, linear deformation
 DECAY_ALIAS_SHARE = 0.01  # modes swinging more than 1 % of the largest in a decay...
@@ -22,6 +23,7 @@ DECAY_NYQUIST_FACTOR = 2.2  # ... are sampled at 2.2 x their frequency (10 % bel
 
 __all__ = ["TestPlan", "CampaignPlan", "plan_campaign", "sweep_frequencies", "onset_times",
            "matched_amplitude", "check_linear", "protocol_error", "decay_swing_shares",
+           "check_work",
            "MAX_ROTATION_RAD", "DECAY_ALIAS_SHARE", "DECAY_NYQUIST_FACTOR"]
 
 
@@ -148,6 +150,12 @@ def sweep_frequencies(protocol, first_hz):
     if end < sweep.start_hz:
         raise protocol_error(protocol, key, f"the sweep ends at {end:.6g} Hz, below its "
                                             f"start_hz {sweep.start_hz:g} Hz")
+    # sized before the list is made: every test reads at least max_periods periods
+    count = math.ceil((end - sweep.start_hz) / sweep.step_hz) + 1
+    h = protocol.harmonic
+    check_limit("samples", count * h.samples_per_period * h.max_periods,
+                protocol.source or "protocol", "sweep.step_hz",
+                f"a sweep of {count} tests from {sweep.start_hz:g} to {end:.6g} Hz")
     freqs = list(np.arange(sweep.start_hz, end - 1e-9 * end, sweep.step_hz))
     return tuple(float(f) for f in freqs) + (float(end),)
 
@@ -229,6 +237,33 @@ def check_linear(plan, reduced, protocol):
             f"small and linear, lower the load")
 
 
+def _length_key(plan):
+    """The protocol key that sets how long a planned test runs."""
+    if plan.kind == "static":
+        s = plan.rate_hz
+        return "static.ramp_time_s" if plan.ramp_time_s * s > plan.max_samples / 2 else \
+            "static.hold_time_s"
+    if plan.kind == "decay":
+        return "modal.decay_periods"
+    read = plan.max_samples / plan.rate_hz - plan.read_time_s
+    return "harmonic.onset_time_constants" if plan.read_time_s > read else \
+        "harmonic.max_periods"
+
+
+def check_work(tests, protocol):
+    """ConfigError (the protocol file and the key that sets the longest test) when the
+    planned tests together exceed the 'samples' or 'simulated_s' limit (motoflex_ros.limits):
+    checked before anything is simulated (a decay of 1e9 periods hung the identification)."""
+    source = protocol.source or "protocol"
+    for name, size, unit in (("samples", lambda t: t.max_samples, "samples"),
+                             ("simulated_s", lambda t: t.max_samples / t.rate_hz, "s")):
+        total = sum(size(t) for t in tests)
+        longest = max(tests, key=size)
+        check_limit(name, total, source, _length_key(longest),
+                    f"the campaign of {len(tests)} tests (the longest, '{longest.name}': "
+                    f"{size(longest):.4g} {unit})")
+
+
 def plan_campaign(protocol, reduced, modes=None):
     """CampaignPlan of ``protocol`` for a ReducedComponent (its ModeSet computed if None).
 
@@ -251,6 +286,7 @@ def plan_campaign(protocol, reduced, modes=None):
                                    protocol, modes, keys))
     if protocol.modal is not None:
         tests.append(_decay(protocol, modes, reduced))
+    check_work(tests, protocol)
     for plan in tests:
         check_linear(plan, reduced, protocol)
     return CampaignPlan(tuple(tests), protocol, modes)
