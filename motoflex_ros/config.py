@@ -204,6 +204,18 @@ def _check_duplicate_keys(node, source, key="", seen=None):
             _check_duplicate_keys(item, source, f"{key}[{i}]", seen)
 
 
+def _yaml_problem(exc):
+    """A YAML error on one line: what is wrong and where (line and column of the file)."""
+    mark = getattr(exc, "problem_mark", None)
+    problem = getattr(exc, "problem", None)
+    if problem is None:   # a reader error: a character YAML does not allow
+        return " ".join(str(exc).split()).replace('in "<unicode string>", position',
+                                                  "at character")
+    context = getattr(exc, "context", None)
+    where = f" at line {mark.line + 1} column {mark.column + 1}" if mark is not None else ""
+    return f"{context + ': ' if context else ''}{problem}{where}"
+
+
 def load_yaml(path):
     """Read a YAML file; a missing, oversized, binary or malformed file and a key given twice
     become a ConfigError naming the file."""
@@ -229,7 +241,7 @@ def load_yaml(path):
         else:
             data = None
     except yaml.YAMLError as exc:
-        raise ConfigError(path, "", f"not valid YAML: {exc}") from None
+        raise ConfigError(path, "", f"not valid YAML: {_yaml_problem(exc)}") from None
     except RecursionError:
         raise ConfigError(path, "", "not valid YAML: nested too deeply") from None
     finally:

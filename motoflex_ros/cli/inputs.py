@@ -5,7 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-from motoflex_ros.config import MOTORCYCLE_COMPONENTS, load_yaml
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.limits import check_limit
 
@@ -19,11 +19,8 @@ def identification_results(path=None, components=COMPONENTS, seed=0):
     """{component: results} from a YAML/JSON file of ``motoflex identify --out``, or, without a
     file, from running the offline bench campaign (seeded) for ``components``."""
     if path:
-        data = load_yaml(Path(path))
-        if not isinstance(data, dict):
-            raise ConfigError(path, "", "expected a mapping {component: results}")
-        from motoflex_ros.identify.results import ResultsFile
-        return ResultsFile(data, path)
+        from motoflex_ros.identify.results import load_results_file
+        return load_results_file(Path(path))
     from motoflex_ros.bench.campaign import identify_components
 
     print("running the bench identification ...", file=sys.stderr)

@@ -264,11 +264,39 @@ def _deliver_everything(node, timeout_s=30.0):
                                     f"everything within {timeout_s:g} s")
 
 
+def _params_files(args):
+    """The files after each --params-file among the ROS arguments."""
+    return [args[i + 1] for i, arg in enumerate(args[:-1]) if arg == "--params-file"]
+
+
+def _init_ros(args):
+    """``rclpy.init``, after checking each --params-file as the config loader checks a file
+    (missing, not text, not YAML, a key twice: ConfigError naming file and key); anything else
+    rcl refuses (e.g. a bad ``-p`` value) is a MotoflexError with rcl's message, not an
+    RCLError traceback."""
+    from motoflex_ros.config import load_yaml
+    from motoflex_ros.errors import ConfigError
+    for path in _params_files(sys.argv if args is None else list(args)):
+        if not isinstance(load_yaml(path), dict):
+            raise ConfigError(path, "", "expected a mapping {node name: {ros__parameters: "
+                                        "{name: value}}}")
+    try:
+        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    except rclpy_implementation.RCLError as exc:
+        rclpy.try_shutdown()
+        message = str(exc).split(", at ")[0]   # rcl appends the C source locations
+        raise MotoflexError(f"cannot read the ROS arguments: {message}") from None
+
+
 def run_node(node_class, args=None):
     """Run ``node_class`` until it finishes or gets SIGINT/SIGTERM; returns the exit code."""
     stop = []
     profile = _profiler()
-    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    try:
+        _init_ros(args)
+    except MotoflexError as exc:
+        print(f"{node_class.NAME}: error: {exc}", file=sys.stderr)
+        return 2
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, lambda num, _frame: stop.append(signal.Signals(num).name))
     try:
