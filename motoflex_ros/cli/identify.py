@@ -13,7 +13,14 @@ from pathlib import Path
 import yaml
 
 from motoflex_ros.cli.inputs import noise_argument, seed_argument
-from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table, to_jsonable
+from motoflex_ros.cli.output import (
+    add_force_option,
+    atomic_write_text,
+    check_new_file,
+    emit_json,
+    print_table,
+    to_jsonable,
+)
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
 __all__ = ["register", "run", "write_results", "format_interval", "DEFAULT_COMPONENTS"]
@@ -38,7 +45,9 @@ def register(subparsers):
                         "protocol)")
     p.add_argument("--seed", type=seed_argument, default=0,
                    help="seed of the sensor noise, a whole number >= 0 (default 0)")
-    p.add_argument("--out", metavar="FILE", help="write the results (.yaml/.yml or .json)")
+    p.add_argument("--out", metavar="FILE", help="write the results (.yaml/.yml or .json); "
+                                                 "an existing file only with --force")
+    add_force_option(p)
     p.add_argument("--json", action="store_true", help="print the results as JSON only")
     p.add_argument("--plot", metavar="DIR", help="write the Figs. 5-7 axis plots to DIR")
     p.set_defaults(func=run)
@@ -112,6 +121,8 @@ def run(args):
     """Run the campaign of each component; returns the exit code."""
     from motoflex_ros.bench.campaign import identify_components
     components = args.component or list(DEFAULT_COMPONENTS)
+    if args.out:
+        check_new_file(args.out, args.force)
     runs = identify_components(components, args.protocol, args.noise, args.seed)
     results = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
     if args.out:
