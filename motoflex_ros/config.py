@@ -88,7 +88,7 @@ def _check_number(value, spec, source, key):
     try:
         value = float(value)
     except OverflowError:   # a whole number with hundreds of digits
-        value = math.copysign(_INF, value)
+        value = _INF if value > 0 else -_INF
     if math.isnan(value) or math.isinf(value):
         raise ConfigError(source, key, f"expected a finite number in {_range_text(spec)}, "
                                        f"got {value}")

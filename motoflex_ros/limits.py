@@ -91,7 +91,16 @@ def check_limit(name, size, source, key, what=""):
     lim, allowed = LIMITS[name], limit(name)
     if not size <= allowed:   # also catches NaN
         start = f"{what} needs" if what else "needs"
-        raise ConfigError(source, key, f"{start} {size:.4g} {lim.unit}, above the limit of "
-                                       f"{allowed:.4g} {lim.unit} ({lim.what}); raise it with "
-                                       f"--limit {name}=N or {lim.variable}=N if you mean it")
+        raise ConfigError(source, key, f"{start} {_amount(size)} {lim.unit}, above the limit "
+                                       f"of {_amount(allowed)} {lim.unit} ({lim.what}); raise "
+                                       f"it with --limit {name}=N or {lim.variable}=N if you "
+                                       f"mean it")
     return size
+
+
+def _amount(value):
+    """A count as 10,001; other numbers with 4 significant digits."""
+    value = float(value)
+    if value.is_integer() and abs(value) < 1e15:
+        return f"{int(value):,}"
+    return f"{value:.4g}"

@@ -65,6 +65,7 @@ class VehicleSimulatorNode(RigNode):
 
     def __init__(self):
         from motoflex_ros.config import resolve_config
+        from motoflex_ros.errors import ConfigError
         from motoflex_ros.identify.results import load_results_file
         from motoflex_ros.structures import load_component
         from motoflex_ros.vehicle.model import load_vehicle
@@ -84,7 +85,11 @@ class VehicleSimulatorNode(RigNode):
         self.bodies_pub = self.advertise(PoseArray, "/vehicle/bodies")
         self.axes_pub = self.create_publisher(Marker, "/vehicle/joint_axes", latched_qos())
         if p["result_file"]:
-            self.identified = load_results_file(Path(p["result_file"]), p["components"])
+            try:
+                self.identified = load_results_file(Path(p["result_file"]), p["components"])
+            except ConfigError as exc:
+                raise ParameterError(f"node '{self.get_name()}': parameter 'result_file': "
+                                     f"{exc}") from None
         else:
             self.subscribe(DiagnosticArray, "/identification/results", self._on_results,
                            qos=latched_qos())
