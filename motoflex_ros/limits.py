@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 from motoflex_ros.errors import ConfigError
 
-__all__ = ["Limit", "LIMITS", "limit", "check_limit", "set_limit", "parse_limit"]
+__all__ = ["Limit", "LIMITS", "limit", "check_limit", "set_limit", "parse_limit", "amount"]
 
 
 @dataclass(frozen=True)
@@ -36,10 +36,11 @@ LIMITS = {lim.name: lim for lim in (
     # the shipped components have 126-522 DOFs; 60,000 DOFs (a 10,000-element tube) take about
     # 4 s and 250 MB for `motoflex components`
     Limit("dofs", 100_000, "DOFs", "degrees of freedom of one component model"),
-    # the shipped campaigns have 6,500-8,400 samples per component (about 0.3 ms each offline)
-    Limit("samples", 1_000_000, "samples", "samples of one component's bench campaign"),
+    # the shipped campaigns have 6,500-8,400 samples per component (about 0.3 ms each offline,
+    # so about a minute at the limit)
+    Limit("samples", 250_000, "samples", "samples of one component's bench campaign"),
     # the shipped campaigns simulate 53-85 s per component
-    Limit("simulated_s", 3600.0, "s", "simulated time of one component's bench campaign"),
+    Limit("simulated_s", 900.0, "s", "simulated time of one component's bench campaign"),
     # a speed sweep: one eigenvalue problem per speed
     Limit("speeds", 10_000, "speeds", "speeds of one eigenvalue sweep"),
 )}
@@ -91,14 +92,14 @@ def check_limit(name, size, source, key, what=""):
     lim, allowed = LIMITS[name], limit(name)
     if not size <= allowed:   # also catches NaN
         start = f"{what} needs" if what else "needs"
-        raise ConfigError(source, key, f"{start} {_amount(size)} {lim.unit}, above the limit "
-                                       f"of {_amount(allowed)} {lim.unit} ({lim.what}); raise "
+        raise ConfigError(source, key, f"{start} {amount(size)} {lim.unit}, above the limit "
+                                       f"of {amount(allowed)} {lim.unit} ({lim.what}); raise "
                                        f"it with --limit {name}=N or {lim.variable}=N if you "
                                        f"mean it")
     return size
 
 
-def _amount(value):
+def amount(value):
     """A count as 10,001; other numbers with 4 significant digits."""
     value = float(value)
     if value.is_integer() and abs(value) < 1e15:

@@ -52,7 +52,7 @@ It is a lower bound, not a guarantee: with 5 um noise the swingarm's torsion k i
 
 # Physical ranges of the protocol's numbers (SI). The length of each test is also bounded by
 # the work limits of motoflex_ros.limits when the protocol is planned (bench/plan.py).
-MAX_FORCE_N = 1e6
+FORCE_N = (1e-3, 1e6)  # [N]; a smaller load's deformation underflows (preload 1e-300 N)
 MAX_FREQUENCY_HZ = 1e6
 MAX_TIME_S = 3600.0
 MAX_PERIODS = 1e5
@@ -71,7 +71,7 @@ _SENSOR = Field("mapping", required=False, default=None, fields={
                      help="marker offsets from q0 [m], >= 3"),
 })
 _STATIC = Field("mapping", fields={
-    "force_n": positive(MAX_FORCE_N, help="F_st [N]"),
+    "force_n": number(*FORCE_N, help="F_st [N]"),
     "ramp_time_s": positive(MAX_TIME_S, help="ramp time [s]"),
     "hold_time_s": positive(MAX_TIME_S, help="hold time [s]"),
     "sample_rate_hz": positive(MAX_FREQUENCY_HZ, help="sample rate [Hz]"),
@@ -100,7 +100,7 @@ _HARMONIC = Field("mapping", fields={
                    help="harmonic tests; torsion and bending required"),
 })
 _SWEEP = Field("mapping", required=False, default=None, fields={
-    "amplitude_n": positive(MAX_FORCE_N, help="force amplitude [N]"),
+    "amplitude_n": number(*FORCE_N, help="force amplitude [N]"),
     "start_hz": positive(MAX_FREQUENCY_HZ, help="first frequency [Hz]"),
     "step_hz": positive(MAX_FREQUENCY_HZ, help="frequency step [Hz]"),
     "end_below_first_hz": positive(MAX_FREQUENCY_HZ, required=False, default=None,
@@ -109,7 +109,7 @@ _SWEEP = Field("mapping", required=False, default=None, fields={
                        help="last frequency [Hz]"),
 })
 _MODAL = Field("mapping", required=False, default=None, fields={
-    "preload_n": positive(MAX_FORCE_N, help="static preload released at t = 0 [N]"),
+    "preload_n": number(*FORCE_N, help="static preload released at t = 0 [N]"),
     "decay_periods": positive(MAX_PERIODS, help="record length in periods of the lowest "
                                                 "target mode"),
     "samples_per_period": Field("int", 4, 1000, help="samples per period of the highest "
@@ -199,7 +199,7 @@ def _check_amplitude(value, source, key):
     if isinstance(value, str):
         raise ConfigError(source, key, f"'{value}' is not an amplitude; allowed: a number > 0 "
                                        f"[N] or '{MATCH_STATIC}'")
-    return validate(value, positive(MAX_FORCE_N), source, key)
+    return validate(value, number(*FORCE_N), source, key)
 
 
 def _check_frequency(value, source, key):

@@ -123,7 +123,7 @@ TYRE_SCHEMAS = {
         **{name: number(-MF_COEFFICIENT_MAX, MF_COEFFICIENT_MAX, required=False, default=None,
                         help="Magic Formula coefficient")
            for name in MF_COEFFICIENTS},
-        "Fz0": positive(1e5, help="nominal load [N]"),
+        "Fz0": number(10.0, 1e5, help="nominal load [N]"),   # the formula divides by it
         "relaxation_a": positive(1.0, help="lateral compliance coefficient [m/N]"),
         "relaxation_b": number(-1.0, 1.0, help="[s/N]"),
         "relaxation_c": number(-1.0, 1.0, help="[s^2/(m N)]"),
