@@ -63,8 +63,8 @@ def bench(name, model):
 
 def flexible_touring():
     from motoflex_ros.structures.components import load_component
+    from motoflex_ros.study.variants import build_variant
     from motoflex_ros.vehicle.lumped import COMPONENTS
-    from motoflex_ros.vehicle.variants import build_variant
 
     components = {name: load_component(name) for name in COMPONENTS}
     return build_variant(load_vehicle(config_path("vehicles", "touring")), "flexible",

@@ -3,8 +3,10 @@
 
 Each node is started as its ``ros2 run`` executable with a parameters file written from
 :func:`motoflex_ros.launcher.campaign.campaign_specs`, so both ways run identical graphs. The
-domain id and discovery range are the caller's (set ROS_DOMAIN_ID yourself); the launch ends
-when the load actuator has played every protocol (and the vehicle simulator is done).
+domain id is the caller's (set ROS_DOMAIN_ID yourself); each node keeps DDS on loopback unless
+MOTOFLEX_DDS=network or a Fast DDS profile of your own; the launch ends when the load actuator
+has played every protocol (and the vehicle simulator is done). No launcher judges the run, so
+its folder gets no status.json: ``motoflex report`` and ``replay`` need ``--allow-incomplete``.
 """
 import shutil
 import sys

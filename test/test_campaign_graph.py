@@ -86,6 +86,8 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     assert 0.0 < timings["graph"] < 600.0 and timings["rerun recording"] > 0.0
     assert "campaign: graph" in report
     live = json.loads((bag / "identification.json").read_text())
+    assert json.loads((bag / "status.json").read_text())["status"] == "complete"
+    assert not (bag / ".identification.partial.json").exists()
     offline = {n: to_jsonable(r.identification.to_dict())
                for n, (_, r) in identify_components([COMPONENT], seed=0).items()}
     _assert_same(live, offline)
@@ -161,7 +163,54 @@ def test_campaign_fault_named_and_clean(tmp_path, victim):
         mcap_bag.repair(bag)
     info = mcap_bag.bag_info(bag)
     assert info.count(f"/bench/{COMPONENT}/load") > 0
+    _failed_and_refused(bag, "interrupted by SIGINT" if victim == "SIGINT"
+                        else f"node '{victim}' died")
+
+
+def _report(bag):
+    """``motoflex report BAG --no-compute`` (what refuses an incomplete run)."""
+    return subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "report", str(bag),
+                           "--no-compute", "--quiet"], capture_output=True, text=True,
+                          timeout=120)
+
+
+def _failed_and_refused(bag, reason):
+    """Issue 13: a failed run says so in status.json, keeps no success-looking result, and
+    ``motoflex report`` refuses it."""
+    status = json.loads((bag / "status.json").read_text())
+    assert status["status"] == "failed" and reason in status["reason"], status
     assert not (bag / "identification.json").exists()
+    assert not (bag / ".identification.partial.json").exists()
+    report = _report(bag)
+    assert report.returncode == 2 and "--allow-incomplete" in report.stderr, report.stderr
+    assert not (bag / "report.html").exists()
+
+
+def test_sigint_right_after_identification_leaves_a_failed_run(tmp_path):
+    """The issue's case: SIGINT as soon as the identification node wrote its results (before
+    issue 13: a complete identification.json, and `motoflex report` exited 0 on it)."""
+    bag = tmp_path / "run"
+    proc = _campaign(tmp_path, "--out", str(bag), "--report", "none")
+    try:
+        deadline = time.monotonic() + 300
+        while not (bag / ".identification.partial.json").exists():
+            assert proc.poll() is None, proc.communicate()
+            assert time.monotonic() < deadline
+            time.sleep(0.02)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    assert proc.returncode != 0 and "interrupted" in err and "Traceback" not in err
+    assert _our_processes(str(tmp_path)) == []
+    _failed_and_refused(bag, "interrupted by SIGINT")
+    replay = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "replay", str(bag),
+                             "--identify", str(tmp_path / "again.json")], capture_output=True,
+                            text=True, timeout=120)
+    assert replay.returncode == 2 and "the run failed" in replay.stderr
+    assert not (tmp_path / "again.json").exists()
 
 
 def test_killed_launcher_leaves_no_node(tmp_path):
@@ -183,3 +232,6 @@ def test_killed_launcher_leaves_no_node(tmp_path):
             os.kill(pid, signal.SIGKILL)
     assert left == []
     assert mcap_bag.bag_info(bag).count(f"/bench/{COMPONENT}/load") > 0
+    assert not (bag / "status.json").exists()   # killed before its status: incomplete
+    report = _report(bag)
+    assert report.returncode == 2 and "did not finish" in report.stderr, report.stderr

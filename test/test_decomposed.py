@@ -14,11 +14,11 @@ import pytest
 from motoflex_ros.bench.campaign import identify_components
 from motoflex_ros.config import config_path
 from motoflex_ros.structures.components import load_component
+from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.lumped import COMPONENTS
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep
-from motoflex_ros.vehicle.variants import build_variant
 
 SPEEDS = np.arange(40.0, 211.0, 10.0) / 3.6
 

@@ -20,7 +20,7 @@ from motoflex_ros.identify.decomposition import decompose_stiffness, split_probl
 from motoflex_ros.identify.results import ResultsFile
 from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL
 from motoflex_ros.study.motorcycle import nominal_stiffness, with_stiffness
-from motoflex_ros.vehicle.lumped import flex_joints
+from motoflex_ros.study.variants import flex_joints
 
 
 @pytest.fixture(scope="module")

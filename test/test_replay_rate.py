@@ -24,6 +24,7 @@ from std_msgs.msg import String  # noqa: E402
 
 from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
 from motoflex_ros.launcher.graph import ros_env  # noqa: E402
+from motoflex_ros.launcher.status import write_status  # noqa: E402
 from motoflex_ros.nodes.conversions import time_msg  # noqa: E402
 from motoflex_ros.record.mcap_bag import BagWriter, read_messages  # noqa: E402
 
@@ -45,6 +46,7 @@ def write_bag(path):
             writer.write("/clock", t_ns, bytes(serialize_message(Clock(clock=time_msg(t_ns)))))
             if k % 2 == 0:
                 writer.write("/probe/text", t_ns, bytes(serialize_message(String(data=f"m{k}"))))
+    write_status(path, "complete")   # as a finished run leaves it (replay refuses others)
     return path
 
 

@@ -10,6 +10,7 @@ import json
 import subprocess
 import sys
 from html.parser import HTMLParser
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,6 +24,7 @@ from motoflex_ros.structures.published import (
 )
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 
 
 def _documents(rng):
@@ -54,25 +56,27 @@ def _documents(rng):
         for ref in meijaard2007_eigenvalues().values()]}
     speeds = [v / 3.6 for v in range(40, 211, 10)]
 
-    def eig():
+    def eig(variant, components):
         modes = {m: [[num(-3, -0.1), num(6, 60)] for _ in speeds] for m in ("weave", "wobble")}
-        return {"speeds_mps": speeds, "eigenvalues": [[[num(-5, 0), num(0, 60)]] for _ in speeds],
+        return {"vehicle": "touring", "variant": variant, "components": components,
+                "speeds_mps": speeds, "eigenvalues": [[[num(-5, 0), num(0, 60)]] for _ in speeds],
                 "modes": modes}
     docs = {"components.json": components, "identify.json": identify,
             "accuracy.json": accuracy, "sensitivity.json": sensitivity,
-            "whipple.json": whipple, "eig.json": eig(), "timings.json": {"identify": 12.5}}
+            "whipple.json": whipple, "eig.json": eig("static", list(COMPONENTS)),
+            "timings.json": {"identify": 12.5}}
     for variant in ("flexible", "state_of_the_art", "static"):
-        docs[f"eig_front_assembly_{variant}.json"] = eig()
+        docs[f"eig_front_assembly_{variant}.json"] = eig(variant, ["front_assembly"])
     return docs
 
 
 class _Cells(HTMLParser):
-    """Collect number cells (attributes) and figure images by id."""
+    """Collect number cells (attributes), figure images and captions by id."""
 
     def __init__(self):
         super().__init__()
-        self.cells, self.figures, self.missing = [], {}, []
-        self._figure = None
+        self.cells, self.figures, self.missing, self.captions = [], {}, [], {}
+        self._figure = self._tag = None
 
     def handle_starttag(self, tag, attrs):
         attrs = dict(attrs)
@@ -84,6 +88,11 @@ class _Cells(HTMLParser):
             self.figures[self._figure] = attrs["src"]
         if tag == "p" and "data-missing" in attrs:
             self.missing.append(attrs["data-missing"])
+        self._tag = tag
+
+    def handle_data(self, data):
+        if self._tag == "figcaption" and self._figure:
+            self.captions[self._figure] = self.captions.get(self._figure, "") + data
 
 
 def _report(folder, *extra):
@@ -227,3 +236,47 @@ def test_report_passes_the_runs_identification_to_the_verbs(tmp_path):
     (tmp_path / "identification.json").write_text("{}")
     assert _arguments(tmp_path, args) == ["study", "accuracy", "--identified",
                                           str(tmp_path / "identification.json")]
+
+
+def test_report_vehicle_stability_names_the_variant(full_report):
+    """Issue 16, point 7: the section said 'rigid' whatever eig.json held; it names the model
+    eig.json records, or says that it records none."""
+    from motoflex_ros.report.build import _vehicle
+    assert full_report[1].captions["eig_touring"] == (
+        "Touring motorcycle, lumped 'static' variant of frame, front_assembly, swingarm: weave "
+        "and wobble against speed")
+    legacy = {k: v for k, v in full_report[0]["eig.json"].items()
+              if k not in ("vehicle", "variant", "components")}
+    (figure,) = _vehicle({"eig": legacy}, {"eig": "eig.json"})
+    assert "model not recorded in eig.json" in figure.caption and "rigid" not in figure.caption
+
+
+def test_report_vehicle_source_is_the_campaigns_motorcycle(tmp_path):
+    """The report's eig.json is the motorcycle the campaign prints: the vehicle_simulator's
+    variant of the run's identified values, equal to the core's sweep of that model."""
+    from motoflex_ros.cli.inputs import identification_results, motorcycle_components
+    from motoflex_ros.config import resolve_config
+    from motoflex_ros.launcher.campaign import campaign_specs
+    from motoflex_ros.report.sources import SOURCES, RunData, _load_one
+    from motoflex_ros.study.variants import build_variant
+    from motoflex_ros.vehicle.linearize import linearize
+    from motoflex_ros.vehicle.model import load_vehicle
+    from motoflex_ros.vehicle.modes import modal_sweep
+    if not (EXAMPLE / "identification.json").is_file():
+        pytest.skip("bags/example is not in this checkout")
+    (vehicle,) = [s.params for s in campaign_specs(COMPONENTS, tmp_path / "bag")
+                  if s.name == "vehicle_simulator"]
+    (tmp_path / "identification.json").write_text((EXAMPLE / "identification.json").read_text())
+    run = RunData()
+    _load_one(tmp_path, next(s for s in SOURCES if s.name == "eig"), True, run)
+    eig = run.data["eig"]
+    assert (eig["vehicle"], eig["variant"], eig["components"]) == (
+        "touring", vehicle["variant"], vehicle["components"])
+    names = vehicle["components"]
+    model = build_variant(load_vehicle(resolve_config("vehicles", "touring")), eig["variant"],
+                          names, identification_results(tmp_path / "identification.json",
+                                                        names), motorcycle_components(names))
+    sweep = modal_sweep(linearize(model), np.array(eig["speeds_mps"]))
+    for mode in ("weave", "wobble"):
+        got = np.array([complex(*z) for z in eig["modes"][mode]])
+        np.testing.assert_allclose(got, sweep.modes[mode], rtol=1e-12)

@@ -3,6 +3,7 @@ import ast
 import shutil
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
@@ -18,6 +19,30 @@ def _console_scripts():
                 if isinstance(key, ast.Constant) and key.value == "console_scripts":
                     return [ast.literal_eval(v).split("=")[0].strip() for v in value.elts]
     raise AssertionError("no console_scripts in setup.py")
+
+
+def _imported_packages(path):
+    """Top-level names of the modules a Python file imports."""
+    tree = ast.parse(path.read_text())
+    names = {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import)
+             for alias in node.names}
+    names |= {node.module for node in ast.walk(tree)
+              if isinstance(node, ast.ImportFrom) and node.module and node.level == 0}
+    return {name.split(".")[0] for name in names}
+
+
+def test_package_xml_exec_depends_on_what_the_launch_files_import():
+    """Package.xml declares what rosdep must install for the launch files (issue 16, point
+    9): every ROS package a shipped launch file imports, and launch_ros, which `ros2 launch`
+    loads for any."""
+    depends = {e.text for e in ET.parse(ROOT / "package.xml").getroot().iter("exec_depend")}
+    launch_files = sorted((ROOT / "launch").glob("*.launch.py"))
+    assert launch_files
+    imported = set().union(*map(_imported_packages, launch_files))
+    ros_packages = imported - set(sys.stdlib_module_names) - {"motoflex_ros", "yaml"}
+    assert "launch" in ros_packages
+    assert ros_packages | {"launch_ros"} <= depends, ros_packages - depends
+    assert "yaml" not in imported or "python3-yaml" in depends
 
 
 NODES = ("sim_clock", "recorder", "bag_replay", "load_actuator", "component_simulator",
@@ -62,3 +87,5 @@ def test_ros_install_prefix_puts_executables_in_lib_package(tmp_path):
     assert run.returncode == 2, run.stderr
     assert "parameter 'window' = 0 is not allowed" in run.stderr
     assert (site / "motoflex_ros" / "nodes" / "sim_clock.py").is_file()
+    # the DDS profile every node loads (loopback only, issue 13) is package data too
+    assert (site / "motoflex_ros" / "config" / "dds" / "loopback.xml").is_file()

@@ -27,8 +27,8 @@ def env(tmp_path):
         yield ros_env(lock.domain_id, tmp_path / "log")
 
 
-def _node(name, env, *params, params_file=None, **popen):
-    cmd = [sys.executable, "-m", f"motoflex_ros.nodes.{name}", "--ros-args"]
+def _node(name, env, *params, params_file=None, ros_args=(), **popen):
+    cmd = [sys.executable, "-m", f"motoflex_ros.nodes.{name}", "--ros-args", *ros_args]
     for p in params:
         cmd += ["-p", p]
     if params_file:
@@ -62,10 +62,13 @@ def _clock_times(bag):
 @pytest.mark.parametrize("content, expected", [
     ("sim_clock:\n  ros__parameters:\n    window: 0\n",
      "parameter 'window' = 0 is not allowed (expected int in [1, 1e+06])"),
-    ("/**:\n  ros__parameters:\n    dt: 1.0e-3\n    windw: 5\n",
+    # a section named for the node refuses unknown keys, even beside a wildcard section
+    ("/**:\n  ros__parameters:\n    seed: 3\n"
+     "sim_clock:\n  ros__parameters:\n    dt: 1.0e-3\n    windw: 5\n",
      "unknown parameter 'windw' (known: ack_from, dt, duration, stall_timeout, wait_for, "
      "window)"),
-    ("sim_clock:\n  ros__parameters:\n    dt: 'fast'\n", "parameter 'dt' has the wrong type"),
+    ("sim_clock:\n  ros__parameters:\n    dt: 'fast'\n",
+     "parameter 'dt' = 'fast' has the wrong type (expected float in [1e-06, 1])\n"),
 ])
 def test_nodes_params_file_bad_value_clear_error(tmp_path, env, content, expected):
     params = tmp_path / "params.yaml"
@@ -75,6 +78,35 @@ def test_nodes_params_file_bad_value_clear_error(tmp_path, env, content, expecte
     assert proc.returncode == 2, (out, err)
     assert expected in err
     assert "Traceback" not in err
+
+
+def test_nodes_wildcard_section_for_other_nodes_ignored(tmp_path, env):
+    """A '/**:' section may hold parameters of other nodes (issue 16, point 6): the node
+    says so at debug level and runs (no acknowledging nodes: to its end).
+    """
+    params = tmp_path / "params.yaml"
+    params.write_text("/**:\n  ros__parameters:\n    seed: 3\n    dt: 2.0e-3\n")
+    proc = _node("sim_clock", env, params_file=params,
+                 ros_args=["--log-level", "sim_clock:=debug"])
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 0, (out, err)
+    assert "unknown parameter" not in err
+    assert "ignoring parameter 'seed' of a wildcard params file section" in err
+
+
+def test_nodes_waiting_node_says_why_and_honours_stall_timeout(env):
+    """load_actuator alone (issue 16, point 6): it says what it waits for at once and every
+    WAIT_LOG_PERIOD_S, and gives up after stall_timeout."""
+    from motoflex_ros.nodes.pacing import WAIT_LOG_PERIOD_S
+    stall_s = WAIT_LOG_PERIOD_S + 1.0
+    start = time.monotonic()
+    proc = _node("load_actuator", env, f"stall_timeout:={stall_s}")
+    out, err = proc.communicate(timeout=60)
+    waiting = "waiting for identification to announce on /rig/ready"
+    assert proc.returncode == 2, (out, err)
+    assert err.count(f"]: {waiting}") == 2, err
+    assert f"gave up after {stall_s:g} s {waiting}" in err
+    assert time.monotonic() - start < stall_s + 30
 
 
 def test_nodes_params_file_missing_nonzero(tmp_path, env):

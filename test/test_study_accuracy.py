@@ -60,9 +60,18 @@ def test_accuracy_verb_end_to_end(verb_run):
     assert (plots / "fig9_front_assembly.png").stat().st_size > 10_000
 
 
-@pytest.mark.xfail(strict=True, reason="ours: alike on wobble (f 6.7 vs 6.2 %, Re 38.1 vs 39.1 %) "
-                   "but not on the weave real part (2.8 vs 1.5 %) once the state-of-the-art "
-                   "stiffness is measured, as the paper says, with a lateral force at the axle")
+FRONT_CAUSE = ("the front assembly's compliance sits in one steering-head spring that a lateral "
+               "force at the axle barely loads, the bench clamps it at the head and the arm "
+               "pivot while the flexible vehicle welds one superelement of the whole assembly "
+               "to the lower fork, and the lumped models move the whole lower fork where the "
+               "flexible one moves only the FE mass (issue 12 points 2-4; the per-body "
+               "superelements of Table A.1 are still to do)")
+
+
+@pytest.mark.xfail(strict=True, reason="ours (10 km/h grid): alike on wobble (f 6.7 vs 6.2 %, Re "
+                   "38.1 vs 39.2 %) but not on the weave real part (2.8 vs 1.5 %) once the "
+                   "state-of-the-art stiffness is measured, as the paper says, with a lateral "
+                   "force at the axle; " + FRONT_CAUSE)
 def test_published_state_of_the_art_and_bending_alike_for_front_assembly(verb_run):
     """Sect. 5.2.2: for the front assembly the state-of-the-art and the bending models give
     very similar results (the bending axis is almost perpendicular to the fork)."""
@@ -72,19 +81,46 @@ def test_published_state_of_the_art_and_bending_alike_for_front_assembly(verb_ru
         assert abs(a - b) <= 0.25 * max(a, b) + 0.5, (quantity, a, b)
 
 
-@pytest.mark.xfail(strict=True, reason="ours: state_of_the_art is best for the frame (wobble Re "
-                   "~5 % vs static ~13 %) and no variant beats ~37 % on the front assembly's "
-                   "wobble real part; see the issue note")
-def test_published_static_lowest_error_in_every_case(verb_run):
-    """Sect. 5.2: the static model has the lowest e_RMS in each of the four cases."""
-    table = verb_run[0]
-    for case in CASES:
-        totals = {v: sum(table[case][v].values()) for v in ACCURACY_VARIANTS}
-        assert min(totals, key=totals.get) == "static", (case, totals)
+TIE = 0.01
+"""Totals closer than 1 % (relative) are a tie at the resolution of eq. 18 over the grid: with
+all components the static and the bending totals swap places between the 10 km/h and the
+1 km/h grids (48.49 vs 48.51 %, 48.43 vs 48.15 %)."""
 
 
-@pytest.mark.xfail(strict=True, reason="ours: ~40 % with all components flexible, set by the "
-                   "front assembly (see the issue note)")
+@pytest.mark.parametrize("case", [
+    "frame", "all",
+    pytest.param("front_assembly", marks=pytest.mark.xfail(strict=True, reason=(
+        "ours (10 km/h grid): totals bending 46.9, state of the art 47.8, static 50.2 %, all "
+        "set by the wobble real part (38-44 %); " + FRONT_CAUSE))),
+    pytest.param("swingarm", marks=pytest.mark.xfail(strict=True, reason=(
+        "ours (10 km/h grid): bending 3.66 % below static 4.25 % (weave real part 1.87 vs "
+        "2.44 %): the two hinges are 5 deg and 1.7 cm apart, the bending one 16 % softer "
+        "(1.13e5 vs 1.34e5 N m/rad) with the modal inertia of eq. 10; the flexible swingarm "
+        "is welded to the frozen Paralever's main arm, the lumped hinge sits between the "
+        "wheel carrier and the wheel; why the softer hinge fits the weave real part better is "
+        "not yet known"))),
+])
+def test_published_static_lowest_error_in_every_case(verb_run, case):
+    """Sect. 5.2: the static model has the lowest e_RMS (sum of the four quantities) in each of
+    the four cases; within TIE of the lowest counts as lowest."""
+    totals = {v: sum(verb_run[0][case][v].values()) for v in ACCURACY_VARIANTS}
+    assert totals["static"] <= min(totals.values()) * (1 + TIE), (case, totals)
+
+
+def test_published_frame_identified_models_beat_the_state_of_the_art(verb_run):
+    """Sect. 5.2.1: the frame's state-of-the-art hinge (at the steering head, normal to the
+    fork axis) has a relatively high error on the wobble real part; the identified models are
+    significantly better. With the paper's load path (the longitudinal arm on the rear frame)
+    ours: 4.8 % against 1.4-1.6 %."""
+    frame = verb_run[0]["frame"]
+    sota = frame["state_of_the_art"]["wobble_re"]
+    for variant in ("static", "torsion", "bending"):
+        assert frame[variant]["wobble_re"] < 0.5 * sota, (variant, frame[variant], sota)
+
+
+@pytest.mark.xfail(strict=True, reason="ours (10 km/h grid): 38.1 % with all components "
+                   "flexible, set by the front assembly (38.9 % alone; frame 1.4 %, swingarm "
+                   "1.0 %); " + FRONT_CAUSE)
 def test_published_static_wobble_real_part_within_10_percent(verb_run):
     """Sect. 5.2.4: with all components flexible the static model's wobble real-part error is at
     most 10 %."""

@@ -18,10 +18,10 @@ from motoflex_ros.structures.components import load_component
 from motoflex_ros.study.factorial import FACTORS, PAPER_TABLE2_NOMINAL, full_factorial
 from motoflex_ros.study.motorcycle import with_stiffness
 from motoflex_ros.study.stability_index import stability_index
+from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep
-from motoflex_ros.vehicle.variants import build_variant
 
 COMPONENTS = MOTORCYCLE_COMPONENTS
 

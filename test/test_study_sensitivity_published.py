@@ -58,12 +58,20 @@ CAUSE = ("our wobble real part rises monotonically with speed in every run, so e
          "(test_bending_stiffness_stabilises_wobble_below_the_crossing).")
 XFAIL = {
     "k_ba": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-        "rho(wobble_low, k_ba) = -0.010 identified, -0.003 table2 (k_ta -1.000, -0.998); "
+        "rho(wobble_low, k_ba) = -0.012 identified, -0.012 table2 (k_ta -1.000, -1.000); "
         + CAUSE.format(factor="k_ba", cross="98 (identified), 99 (table2) km/h"))),
     "k_bf": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-        "rho(wobble_low, k_bf) = -0.002 identified, -0.003 table2 (k_tf +0.010, +0.065; "
-        "k_ta -1.000, -0.998); "
-        + CAUSE.format(factor="k_bf", cross="88 (identified), 90 (table2) km/h"))),
+        "rho(wobble_low, k_bf) = -0.0019 identified, -0.0022 table2 (k_ta -1.000, -1.000); "
+        + CAUSE.format(factor="k_bf", cross="92 (identified), 93 (table2) km/h"))),
+    # with the paper's load path (longitudinal arm on the rear frame, issue 12) the frame's
+    # torsion joins them: its +/-10 % curves cross at 98-99 km/h too
+    "k_tf": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
+        "rho(wobble_low, k_tf) = -0.0014 identified, -0.0028 table2; "
+        + CAUSE.format(factor="k_tf", cross="98 (identified), 99 (table2) km/h"))),
+    "frame": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
+        "rho(wobble_low, k_tf + k_bf) = -0.0024 identified, -0.0036 table2; "
+        + CAUSE.format(factor="k_tf and k_bf together", cross="96 (identified), 98 (table2) "
+                       "km/h"))),
 }
 
 
@@ -202,7 +210,7 @@ def test_wobble_low_index_is_the_real_part_at_100_kmh(study):
 
 
 @ON_BOTH
-@pytest.mark.parametrize("factor", ["k_ba", "k_bf"])
+@pytest.mark.parametrize("factor", ["k_ba", "k_bf", "k_tf"])
 def test_bending_effect_on_wobble_reverses_below_100_kmh(study, factor):
     """One factor at a time (+/-10 %, the others nominal, 1 km/h grid): the stiffer part has
     the lower wobble real part at 40 km/h and the higher one at 100 and 210 km/h; the curves
@@ -221,7 +229,7 @@ def test_bending_effect_on_wobble_reverses_below_100_kmh(study, factor):
 
 
 @ON_BOTH
-@pytest.mark.parametrize("factor", ["k_ba", "k_bf"])
+@pytest.mark.parametrize("factor", ["k_ba", "k_bf", "k_tf"])
 def test_bending_stiffness_stabilises_wobble_below_the_crossing(study, factor):
     """Over the same 64 runs, indexed by -Re(wobble) at 40 or at 70 km/h or by minus its mean
     over the 40-100 km/h grid points (more damping, higher index, as eq. 15), the stiffer part

@@ -74,9 +74,9 @@ def motorcycle():
 
 def test_motorcycle_directions_are_those_of_A0_roundtrip(motorcycle):
     from motoflex_ros.study.motorcycle import decomposed_study, with_stiffness
+    from motoflex_ros.study.variants import build_variant
     from motoflex_ros.vehicle.linearize import linearize
     from motoflex_ros.vehicle.lumped import COMPONENTS
-    from motoflex_ros.vehicle.variants import build_variant
     vehicle, components, identified = motorcycle
     speeds = np.array([40.0, 125.0, 210.0]) / 3.6
     setup = decomposed_study(vehicle, components, identified, speeds)  # checks at 210 km/h

@@ -76,7 +76,7 @@ def test_soft_hinge_superelement_equals_lumped_joint(vehicle):
 @pytest.mark.parametrize("name", lumped.COMPONENTS)
 def test_stiff_superelement_converges_to_rigid_limit(vehicle, name):
     component = load_component(name)
-    se = superelement_of(component, lumped.MOUNTS[name][0])
+    se = superelement_of(component, lumped.SUPERELEMENT_PARENT[name])
     rigid = weave_wobble(vehicle)
     errors = []
     for scale in (1e2, 1e4):

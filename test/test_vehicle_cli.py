@@ -14,6 +14,8 @@ def test_eig_json_roundtrip_whipple(capsys):
                  "--speeds", "5", "10", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["speeds_mps"] == [5.0, 10.0]
+    assert (doc["variant"], doc["components"]) == ("rigid", [])   # the model it is of
+    assert doc["vehicle"] == str(config_path("vehicles", "whipple_benchmark"))
     lin = linearize(load_vehicle(config_path("vehicles", "whipple_benchmark")))
     for v, pairs in zip(doc["speeds_mps"], doc["eigenvalues"]):
         got = np.array([complex(*p) for p in pairs])

@@ -59,7 +59,8 @@ def _unit(vector):
 
 
 class KaneMotorcycle:
-    """Symbolic touring motorcycle (topology of config/vehicles/touring.yaml)."""
+    """Symbolic touring motorcycle: config/vehicles/touring.yaml with its mechanisms frozen
+    (a revolute steering joint through the head point along the steering axis)."""
 
     def __init__(self, data, tyres):
         self.data = data
@@ -89,8 +90,13 @@ class KaneMotorcycle:
         zero = [0.0, 0.0, 0.0]
         for name, part in data["bodies"]["frame"]["parts"].items():
             _rigid(name, C, P0, zero, part, self.bodies, g, self.loads, N)
-        _rigid("swingarm", C, P0, zero, data["bodies"]["swingarm"], self.bodies, g, self.loads,
-               N)
+        # the frozen Paralever and the Telelever's longitudinal arm ride with the rear frame:
+        # this oracle is the tree the locked mechanism reduces to (steering about the axis
+        # through the two spherical joints), so comparing it with the engine also checks the
+        # engine's loop closures
+        for name in ("swingarm", "torque_strut", "wheel_carrier", "telelever_arm"):
+            if name in data["bodies"]:
+                _rigid(name, C, P0, zero, data["bodies"][name], self.bodies, g, self.loads, N)
         lean, steer = data["joints"]["rider_lean"], data["joints"]["steer"]
         F = C.orientnew("F", "Axis", [q[7], _vec(C, lean["axis"])])
         F.set_ang_vel(C, u[7] * _vec(C, lean["axis"]))

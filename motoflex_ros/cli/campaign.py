@@ -1,10 +1,13 @@
 """``motoflex campaign``: the whole bench campaign through the ROS 2 node graph.
 
-Starts every node as its own process on a private ROS domain (localhost discovery), waits until
+Starts every node as its own process on the run's ROS domain (ROS_DOMAIN_ID if set and free,
+else a free one) with DDS on loopback (MOTOFLEX_DDS=network for a real bench), waits until
 all are up, runs the campaign of each component, shows progress, prints the identified values
 against the paper's Table 2, stops every node and leaves the bag in ``--out``
 (bags/<name>/: rosbag2 MCAP + identification.json, the same file ``motoflex identify --out``
 writes). A node that dies, SIGINT or SIGTERM stop the run with a message naming what happened.
+status.json is written last: "complete", or "failed" with the reason (and then no
+identification.json or report.html is left; see :mod:`motoflex_ros.launcher.status`).
 """
 import json
 import time
@@ -44,20 +47,27 @@ def register(subparsers):
 
 def run(args):
     """Run the graph; print the table (or JSON); returns the exit code."""
-    from motoflex_ros.launcher.campaign import run_campaign_graph
+    from motoflex_ros.launcher.campaign import RESULT_FILE, VEHICLE_VARIANT, run_campaign_graph
+    from motoflex_ros.launcher.status import run_status
     from motoflex_ros.record.mcap_bag import bag_info
     out = args.out or time.strftime("bags/campaign_%Y%m%d_%H%M%S", time.gmtime())
-    outcome = run_campaign_graph(args.components, out, args.noise, args.seed, args.protocol,
-                                 progress=not args.json)
-    timings = {"graph": outcome.wall_s}
-    written = _recording_and_report(outcome.bag, args.report, timings, progress=not args.json)
+    results = [RESULT_FILE]
+    if args.report != "none":
+        from motoflex_ros.report.build import REPORT_FILE
+        results.append(REPORT_FILE)
+    with run_status(out, results):   # status.json last: complete, or failed and no results
+        outcome = run_campaign_graph(args.components, out, args.noise, args.seed,
+                                     args.protocol, progress=not args.json)
+        timings = {"graph": outcome.wall_s}
+        written = _recording_and_report(outcome.bag, args.report, timings,
+                                        progress=not args.json)
     if args.json:
         emit_json(outcome.results)
         return 0
     info = bag_info(outcome.bag)
     _table(outcome.results)
     if outcome.vehicle:
-        print("\nlumped 'static' motorcycle of the identified values:")
+        print(f"\nlumped '{VEHICLE_VARIANT}' motorcycle of the identified values:")
         _vehicle_table(outcome.vehicle)
     print(f"\nbag: {outcome.bag} ({info.message_count} messages, {len(info.topics)} topics); "
           f"results: {outcome.result_file}; wall time {outcome.wall_s:.1f} s "

@@ -5,9 +5,10 @@
                  [--identified FILE]
 
 Speeds after --speeds are in m/s; --range-kmh gives km/h (inclusive of HI when it falls on the
-step). --json prints {"speeds_mps", "eigenvalues" ([[re, im], ...] per speed, 1/s),
-"modes": {"weave", "wobble", "capsize": [[re, im] | null per speed]}}. --plot DIR writes the
-root locus and weave/wobble frequency and real part against speed (PNG).
+step). --json prints {"vehicle", "variant" (of --flex), "components" (made flexible; [] when
+rigid), "speeds_mps", "eigenvalues" ([[re, im], ...] per speed, 1/s), "modes": {"weave",
+"wobble", "capsize": [[re, im] | null per speed]}}. --plot DIR writes the root locus and
+weave/wobble frequency and real part against speed (PNG).
 
 --flex puts the components' flexibility into the rigid vehicle: ``flexible`` (Craig-Bampton
 superelements of the clamped components) or a lumped variant (state_of_the_art, static,
@@ -24,13 +25,14 @@ from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.config import resolve_config
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.limits import check_limit
+from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import MODE_NAMES, modal_sweep
 from motoflex_ros.vehicle.schema import SPEED_MAX_MPS
-from motoflex_ros.vehicle.variants import FLEX_CHOICES, build_variant, parse_components
+from motoflex_ros.vehicle.variants import FLEX_CHOICES, parse_components
 
-__all__ = ["register", "run", "requested_speeds", "sweep_to_json"]
+__all__ = ["register", "run", "requested_speeds", "sweep_to_json", "model_to_json"]
 
 _ARGS = "command line"
 
@@ -104,6 +106,13 @@ def sweep_to_json(sweep):
             "modes": {name: [_pair(z) for z in sweep.modes[name]] for name in MODE_NAMES}}
 
 
+def model_to_json(args):
+    """What the eigenvalues are of: {"vehicle", "variant", "components"} of the arguments."""
+    rigid = args.flex == "rigid"
+    return {"vehicle": args.vehicle, "variant": args.flex,
+            "components": [] if rigid else parse_components(args.components)}
+
+
 def _cell(z, part):
     if not np.isfinite(z):
         return "-"
@@ -143,7 +152,7 @@ def run(args):
         if not args.json:
             print("wrote " + ", ".join(str(p) for p in written), file=sys.stderr)
     if args.json:
-        emit_json(sweep_to_json(sweep))
+        emit_json({**model_to_json(args), **sweep_to_json(sweep)})
     else:
         _print_table(sweep, sys.stdout)
     return 0

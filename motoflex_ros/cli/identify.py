@@ -5,25 +5,16 @@ modal test (Passigato et al. 2023, Sect. 4.2); prints a table or, with --json, t
 {component: {"static", "torsion", "bending", "k_t", "k_b", "sweep", ...}} (angles rad, lengths
 m, stiffness N m/rad), optionally writes them to a YAML/JSON file and the Figs. 5-7 plots.
 """
-import json
 import math
 import sys
 from pathlib import Path
 
-import yaml
-
 from motoflex_ros.cli.inputs import noise_argument, seed_argument
-from motoflex_ros.cli.output import (
-    add_force_option,
-    atomic_write_text,
-    check_new_file,
-    emit_json,
-    print_table,
-    to_jsonable,
-)
+from motoflex_ros.cli.output import add_force_option, check_new_file, emit_json, print_table
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+from motoflex_ros.results_file import write_results
 
-__all__ = ["register", "run", "write_results", "format_interval", "DEFAULT_COMPONENTS"]
+__all__ = ["register", "run", "format_interval", "DEFAULT_COMPONENTS"]
 
 DEFAULT_COMPONENTS = MOTORCYCLE_COMPONENTS
 
@@ -101,20 +92,6 @@ def _modal_table(results, stream):
         stream.write("\n")
         print_table(["component", "mode", "omega_n [rad/s]", "decay", "95 % interval",
                      "zeta", "decay", "95 % interval"], rows, stream)
-
-
-def write_results(path, results):
-    """Write identification results as JSON, or YAML for a .yaml/.yml path, atomically.
-
-    The offline command and the identification node both use it, so their files are equal.
-    """
-    path = Path(path)
-    data = to_jsonable(results)
-    if path.suffix in (".yaml", ".yml"):
-        text = yaml.safe_dump(data, sort_keys=False)
-    else:
-        text = json.dumps(data, indent=1, allow_nan=False) + "\n"
-    atomic_write_text(path, text)
 
 
 def run(args):

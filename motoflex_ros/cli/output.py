@@ -1,13 +1,11 @@
 """Shared output helpers of the CLI verbs: JSON to stdout, tables, atomic file writes."""
 import json
-import math
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.files import atomic_write_text
+from motoflex_ros.results_file import to_jsonable
 
 __all__ = ["emit_json", "to_jsonable", "atomic_write_text", "print_table", "add_force_option",
            "check_new_file"]
@@ -29,25 +27,6 @@ def check_new_file(path, force, option="--out"):
         raise ConfigError("command line", option, f"{path} exists; give --force to replace "
                                                   f"it, or another file name")
     return path
-
-
-def to_jsonable(obj):
-    """Convert numpy scalars/arrays and tuples recursively into JSON-ready Python objects.
-
-    Non-finite floats (NaN: an undefined value such as the interval of a single sample) become
-    None, i.e. null: strict JSON has no NaN.
-    """
-    if isinstance(obj, dict):
-        return {str(k): to_jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [to_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return to_jsonable(obj.tolist())
-    if isinstance(obj, np.generic):
-        obj = obj.item()
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
 
 
 def emit_json(obj, stream=None):

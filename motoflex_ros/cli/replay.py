@@ -6,7 +6,8 @@ as fast as possible; ``--wait-for NODE`` holds the first message until NODE has 
 itself on /rig/ready (otherwise a listener that joins late misses the first messages). With
 --identify FILE: replays the bench topics into a fresh identification node on a private domain
 and writes its results to FILE (the format of ``motoflex identify --out``), which reproduces
-the live run's identification.json.
+the live run's identification.json. A run whose status.json is not "complete" (failed,
+interrupted, killed) is refused unless --allow-incomplete.
 """
 from motoflex_ros.cli.output import add_force_option, check_new_file
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
@@ -33,6 +34,9 @@ def register(subparsers):
                         help="wait until node NODE has announced itself on /rig/ready (its "
                              "subscriptions see the replay) before the first message, so it "
                              "misses nothing; repeatable")
+    parser.add_argument("--allow-incomplete", action="store_true",
+                        help="replay a run that failed or did not finish (its status.json is "
+                             "not 'complete')")
     parser.set_defaults(func=run)
 
 
@@ -44,8 +48,13 @@ def bag_components(info):
 
 
 def run(args):
-    """Check the bag, then replay it (optionally into an identification node)."""
+    """Check the bag (and that its run completed), then replay it (optionally into an
+    identification node)."""
+    import os
+    import sys
+
     from motoflex_ros.errors import MotoflexError
+    from motoflex_ros.launcher.status import require_complete
     from motoflex_ros.record.mcap_bag import bag_info
     rate = args.rate if args.rate is not None else (0.0 if args.identify else 1.0)
     if not 0.0 <= rate <= 1000.0:
@@ -53,11 +62,16 @@ def run(args):
     if args.identify:
         check_new_file(args.identify, args.force, "--identify")
     info = bag_info(args.bag)
+    incomplete = require_complete(info.path, args.allow_incomplete)
+    if incomplete:
+        print(f"warning: {incomplete}; replayed anyway (--allow-incomplete)", file=sys.stderr)
     if args.identify:
         return _identify(info, rate, args.identify)
     from motoflex_ros.nodes.bag_replay import BagReplay
     from motoflex_ros.nodes.runtime import run_node
-    print(f"replaying {info.path}: {info.message_count} messages at rate {rate:g}", flush=True)
+    domain = os.environ.get("ROS_DOMAIN_ID", "").strip() or "0 (unset)"
+    print(f"replaying {info.path}: {info.message_count} messages at rate {rate:g} on "
+          f"ROS_DOMAIN_ID {domain}", flush=True)
     params = ["-p", f"bag:={info.path}", "-p", f"rate:={rate!r}"]
     if args.wait_for:
         params += ["-p", f"wait_for:={list(args.wait_for)!r}"]

@@ -15,16 +15,24 @@ def register(subparsers):
     parser.add_argument("--no-compute", dest="compute", action="store_false",
                         help="use only the JSON outputs already in the run folder")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
+    parser.add_argument("--allow-incomplete", action="store_true",
+                        help="report a run that failed or did not finish (its status.json is "
+                             "not 'complete'); the report says so at the top")
     parser.set_defaults(func=run)
 
 
 def run(args):
+    from motoflex_ros.launcher.status import require_complete
     from motoflex_ros.report.build import build_report
     from motoflex_ros.report.html import Missing
     from motoflex_ros.report.run_folder import run_folder
     folder = run_folder(args.run)
-    path, sections = build_report(folder, compute=args.compute, progress=not args.quiet)
+    incomplete = require_complete(folder, args.allow_incomplete)
+    path, sections = build_report(folder, compute=args.compute, progress=not args.quiet,
+                                  warning=incomplete and f"Incomplete run: {incomplete}")
     missing = [s.title for s in sections if any(isinstance(p, Missing) for p in s.parts)]
+    if incomplete:
+        print(f"warning: {incomplete}; reported anyway (--allow-incomplete)")
     print(f"wrote {path}")
     if missing:
         print("not available: " + "; ".join(missing))

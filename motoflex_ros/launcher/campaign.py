@@ -16,7 +16,7 @@ from motoflex_ros.launcher.graph import NodeSpec
 from motoflex_ros.launcher.run import RunFailed, run_graph, work_folder
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
-           "planned_duration", "RESULT_FILE"]
+           "planned_duration", "RESULT_FILE", "VEHICLE_COMPONENTS", "VEHICLE_VARIANT"]
 
 RESULT_FILE = "identification.json"
 BENCH_LEAVES = ("load", "phase", "markers/true", "markers/measured", "pose")
@@ -38,6 +38,9 @@ class CampaignOutcome:
 VEHICLE_TOPICS = ("/vehicle/eigenvalues", "/vehicle/joint_states", "/vehicle/bodies",
                   "/vehicle/joint_axes")
 VEHICLE_COMPONENTS = MOTORCYCLE_COMPONENTS
+VEHICLE_VARIANT = "static"
+"""The lumped variant (Sect. 5.2) the campaign's vehicle_simulator builds of the identified
+values; the campaign prints its weave and wobble and the report shows them."""
 
 
 def with_vehicle(components):
@@ -52,18 +55,21 @@ def campaign_topics(components):
         f"/bench/{c}/{leaf}" for c in components for leaf in BENCH_LEAVES] + vehicle
 
 
-def campaign_specs(components, bag, noise=None, seed=0, protocol=None):
-    """NodeSpecs of the campaign graph recording to ``bag`` (a directory that must not exist)."""
+def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_file=None):
+    """NodeSpecs of the campaign graph recording to ``bag`` (a directory that must not exist);
+    the identification node writes ``result_file`` (default ``bag``/identification.json)."""
     bench = {"components": list(components), "seed": int(seed),
              "noise": -1.0 if noise is None else float(noise), "protocol": protocol or ""}
     workers = ["component_simulator", "displacement_sensor", "identification", "recorder"]
-    vehicle = ([NodeSpec("vehicle_simulator", {"components": list(VEHICLE_COMPONENTS)})]
+    vehicle = ([NodeSpec("vehicle_simulator", {"components": list(VEHICLE_COMPONENTS),
+                                               "variant": VEHICLE_VARIANT})]
                if with_vehicle(components) else [])
     return vehicle + [
         NodeSpec("load_actuator", {**bench, "wait_for": workers}),
         NodeSpec("component_simulator", dict(bench)),
         NodeSpec("displacement_sensor", dict(bench)),
-        NodeSpec("identification", {**bench, "result_file": str(Path(bag) / RESULT_FILE)}),
+        NodeSpec("identification", {**bench,
+                                    "result_file": str(result_file or Path(bag) / RESULT_FILE)}),
         NodeSpec("recorder", {"bag": str(bag), "topics": campaign_topics(components),
                               "late_topics": ["/identification/results", *VEHICLE_TOPICS]}),
     ]
@@ -88,12 +94,13 @@ def _diagnostic_array():
 
 def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progress=False,
                        work_dir=None):
-    """Run the campaign through the graph; returns a :class:`CampaignOutcome`."""
-    bag = Path(bag)
-    if bag.exists() and (not bag.is_dir() or any(bag.iterdir())):
-        from motoflex_ros.record.mcap_bag import BagError
-        raise BagError(f"{bag}: exists and is not an empty directory; choose another --out")
-    specs = campaign_specs(components, bag, noise, seed, protocol)
+    """Run the campaign through the graph; returns a :class:`CampaignOutcome`. The results
+    file gets its name only once every node finished cleanly (until then it is staged)."""
+    from motoflex_ros.launcher.status import staged
+    from motoflex_ros.record.mcap_bag import check_new_bag_dir
+    bag = check_new_bag_dir(bag)
+    result_file = bag / RESULT_FILE
+    specs = campaign_specs(components, bag, noise, seed, protocol, staged(result_file))
     start = time.monotonic()
     finishers = ["vehicle_simulator"] if with_vehicle(components) else []
     # parameters and logs in a temporary folder, removed at the end; on a failure the logs
@@ -102,10 +109,10 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
         run = run_graph(specs, "load_actuator", planned_duration(components, noise, protocol),
                         work_dir=work_dir, progress=progress, finishers=finishers,
                         collect=[("/vehicle/eigenvalues", _diagnostic_array())])
-        result_file = bag / RESULT_FILE
-        if not result_file.is_file():
+        if not staged(result_file).is_file():
             raise RunFailed(f"the identification node wrote no {RESULT_FILE} in {bag}; its "
                             f"log: {work_dir / 'log' / 'identification.log'}")
+    staged(result_file).replace(result_file)
     results = json.loads(result_file.read_text())
     eig = run.collected["/vehicle/eigenvalues"]
     vehicle = {s.name.split("/")[1]: {kv.key: json.loads(kv.value) for kv in s.values}

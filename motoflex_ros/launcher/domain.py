@@ -1,8 +1,10 @@
-"""Pick a ROS_DOMAIN_ID in 1-101 that no other run on this machine holds.
+"""The ROS_DOMAIN_ID of a run: the one the user set, or a free one in 1-101.
 
 Each run holds an exclusive ``fcntl`` lock on ``<tmp>/motoflex_ros_domains/<id>.lock`` for
 its lifetime; the lock disappears with the process (even when it is killed), so ids are never
-leaked. 1-101 is the range the ROS 2 documentation calls safe on Linux.
+leaked. An id set in ``ROS_DOMAIN_ID`` is honoured, and refused while another run holds it.
+Otherwise the first id that no run holds and whose DDS ports nobody on this machine has bound
+(another ROS graph) is taken, from 1-101, the range the ROS 2 documentation calls safe on Linux.
 """
 import fcntl
 import os
@@ -11,37 +13,95 @@ from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
 
-__all__ = ["DomainLock", "DOMAIN_IDS"]
+__all__ = ["DomainLock", "DOMAIN_IDS", "DomainBusy", "requested_domain", "domain_in_use"]
 
 DOMAIN_IDS = range(1, 102)
+MAX_DOMAIN_ID = 232  # the largest id whose DDS ports fit below 65536 (RTPS port mapping)
+PORT_BASE, DOMAIN_GAIN = 7400, 250  # RTPS ports of domain d: 7400 + 250 d ... + 249
+
+
+class DomainBusy(MotoflexError):
+    """The requested domain id is held by another run."""
+
+
+def requested_domain(env):
+    """The id ``ROS_DOMAIN_ID`` asks for (an int), or None when it is unset or empty."""
+    text = env.get("ROS_DOMAIN_ID", "").strip()
+    if not text:
+        return None
+    if not text.isdigit() or int(text) > MAX_DOMAIN_ID:
+        raise MotoflexError(f"ROS_DOMAIN_ID={text!r}: expected a whole number in "
+                            f"0-{MAX_DOMAIN_ID} (1-101 are safe on Linux), or unset it to get "
+                            "a free one")
+    return int(text)
+
+
+def _bound_udp_ports():
+    """Local ports of every UDP socket of this machine (network namespace)."""
+    ports = set()
+    for name in ("/proc/net/udp", "/proc/net/udp6"):
+        try:
+            with open(name) as table:
+                next(table)
+                ports.update(int(line.split()[1].rsplit(":", 1)[1], 16) for line in table)
+        except OSError:
+            continue
+    return ports
+
+
+def domain_in_use(domain_id, ports=None):
+    """True if a socket of this machine is bound to one of the domain's RTPS ports."""
+    low = PORT_BASE + DOMAIN_GAIN * domain_id
+    ports = _bound_udp_ports() if ports is None else ports
+    return any(low <= port < low + DOMAIN_GAIN for port in ports)
 
 
 class DomainLock:
-    """Context manager holding a free domain id (``.domain_id``)."""
+    """Context manager holding a domain id (``.domain_id``): ``domain_id`` if given (refused
+    with :class:`DomainBusy` while another run holds it), else a free one."""
 
-    def __init__(self, lock_dir=None):
+    def __init__(self, lock_dir=None, domain_id=None):
         # one place for every run of this machine, whatever TMPDIR says
         shared = Path("/tmp") if Path("/tmp").is_dir() else Path(tempfile.gettempdir())
         self.lock_dir = Path(lock_dir or shared / "motoflex_ros_domains")
+        self.requested = domain_id
         self.domain_id = None
         self._fd = None
 
+    def _try_lock(self, candidate):
+        fd = os.open(self.lock_dir / f"{candidate}.lock", os.O_CREAT | os.O_RDWR, 0o666)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(fd)
+            return False
+        self.domain_id, self._fd = candidate, fd
+        return True
+
     def acquire(self):
-        """Lock the first free id, starting at an offset derived from the pid."""
+        """Lock the requested id, or the first free one from an offset derived from the pid."""
         self.lock_dir.mkdir(parents=True, exist_ok=True)
+        if self.requested is not None:
+            if not self._try_lock(self.requested):
+                raise DomainBusy(f"ROS_DOMAIN_ID {self.requested} is in use by another motoflex "
+                                 f"run on this machine (lock {self.lock_dir}/{self.requested}"
+                                 ".lock); choose another id, or unset ROS_DOMAIN_ID to get a "
+                                 "free one")
+            return self.requested
         n = len(DOMAIN_IDS)
         start = os.getpid() % n
+        ports = _bound_udp_ports()
         for i in range(n):
             candidate = DOMAIN_IDS[(start + i) % n]
-            fd = os.open(self.lock_dir / f"{candidate}.lock", os.O_CREAT | os.O_RDWR, 0o666)
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError:
-                os.close(fd)
-                continue
-            self.domain_id, self._fd = candidate, fd
-            return candidate
+            if not domain_in_use(candidate, ports) and self._try_lock(candidate):
+                return candidate
         raise MotoflexError("no free ROS_DOMAIN_ID in 1-101 (101 runs at once?)")
+
+    @property
+    def origin(self):
+        """How the id was chosen, in words."""
+        return ("from ROS_DOMAIN_ID" if self.requested is not None
+                else "a free id; set ROS_DOMAIN_ID to choose one")
 
     def release(self):
         """Give the id back."""

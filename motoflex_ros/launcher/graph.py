@@ -2,7 +2,7 @@
 
 Every node runs as ``sys.executable -m motoflex_ros.nodes.<module> --ros-args --params-file
 <params>`` (the same interpreter, so the ROS wheels' bootstrap carries over) with its own
-``ROS_DOMAIN_ID``, ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`` and ``ROS_LOG_DIR``; stdout and
+``ROS_DOMAIN_ID``, DDS on loopback (:mod:`.dds`) and ``ROS_LOG_DIR``; stdout and
 stderr go to ``<log_dir>/<node>.log``. Processes are ended by their own pid only: SIGINT, then
 SIGTERM, then SIGKILL after a grace period each.
 """
@@ -17,6 +17,7 @@ from pathlib import Path
 import yaml
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.launcher.dds import configure_dds
 
 __all__ = ["NodeSpec", "NodeGraph", "NodeDied", "ros_env", "describe_exit"]
 
@@ -42,12 +43,13 @@ class NodeSpec:
 
 
 def ros_env(domain_id, log_dir, base=None):
-    """Environment of a node process: own domain, localhost discovery, logs in ``log_dir``."""
+    """Environment of a node process: own domain, DDS on loopback (unless MOTOFLEX_DDS says
+    otherwise, see :mod:`.dds`), logs in ``log_dir``."""
     env = dict(os.environ if base is None else base)
-    env.update(ROS_DOMAIN_ID=str(domain_id), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-               ROS_LOG_DIR=str(log_dir), OPENBLAS_NUM_THREADS="1", PYTHONUNBUFFERED="1",
+    env.update(ROS_DOMAIN_ID=str(domain_id), ROS_LOG_DIR=str(log_dir), OPENBLAS_NUM_THREADS="1",
+               PYTHONUNBUFFERED="1",
                MOTOFLEX_PARENT_PID=str(os.getpid()))   # nodes stop if the launcher dies
-    env.pop("ROS_LOCALHOST_ONLY", None)
+    configure_dds(env)
     return env
 
 

@@ -2,11 +2,14 @@
 
 The run ends when the pacing node (``sim_clock``, or ``bag_replay``) exits 0. A node that dies,
 a pacing node that fails, SIGINT or SIGTERM stop every node (recorder last, so that it finishes
-the bag) and raise :class:`RunFailed` / :class:`RunInterrupted` naming what happened.
+the bag) and raise :class:`RunFailed` / :class:`RunInterrupted` naming what happened. The run's
+ROS_DOMAIN_ID (``ROS_DOMAIN_ID`` if set, else a free one: :mod:`.domain`) and DDS transport
+(:mod:`.dds`) are printed on stderr at the start.
 """
 import os
 import shutil
 import signal
+import sys
 import tempfile
 import time
 from contextlib import contextmanager
@@ -14,7 +17,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.launcher.domain import DomainLock
+from motoflex_ros.launcher.dds import configure_dds
+from motoflex_ros.launcher.domain import DomainLock, requested_domain
 from motoflex_ros.launcher.graph import NodeDied, NodeGraph, describe_exit
 
 __all__ = ["RunFailed", "RunInterrupted", "RunResult", "run_graph", "work_folder",
@@ -92,7 +96,10 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
     previous = signal.signal(signal.SIGTERM, _raise_on_sigterm)
     start = time.monotonic()
     try:
-        with DomainLock() as lock:
+        dds = configure_dds(os.environ)   # this process's monitor node; the nodes inherit it
+        with DomainLock(domain_id=requested_domain(os.environ)) as lock:
+            print(f"motoflex: ROS_DOMAIN_ID {lock.domain_id} ({lock.origin}); {dds}",
+                  file=sys.stderr, flush=True)
             graph = NodeGraph(specs, lock.domain_id, work_dir)
             try:
                 graph.start()   # inside the try: a failure half-way stops what started
@@ -119,7 +126,6 @@ def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending)
     from rclpy.signals import SignalHandlerOptions
 
     from motoflex_ros.launcher.monitor import Monitor
-    os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
     context = rclpy.Context()
     rclpy.init(args=[], context=context, domain_id=graph.domain_id,
                signal_handler_options=SignalHandlerOptions.NO)

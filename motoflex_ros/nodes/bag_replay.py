@@ -28,7 +28,8 @@ class BagReplay(RigNode):
         Param("ack_from", (), description="nodes that acknowledge on /rig/ack"),
         Param("wait_for", (), description="nodes that must be ready before the first message"),
         Param("window", 0.05, 0.0, 1e6, description="simulated time ahead of the acks [s]"),
-        Param("stall_timeout", 10.0, 0.1, 3600.0, description="max wait for an ack [s]"),
+        Param("stall_timeout", 10.0, 0.1, 3600.0,
+              description="max wait for an ack, or for a node to be ready [s]"),
         Param("exclude", ("/rig/",), description="topic prefixes not republished"),
     )
 
@@ -43,7 +44,7 @@ class BagReplay(RigNode):
                      for t in self.info.topics if not t.name.startswith(skip)}
         self.messages = (m for m in read_messages(p["bag"], topics=list(self.pubs)))
         self.ready = ReadyWatch(self, set(p["wait_for"]) | set(p["ack_from"]),
-                                self.pubs.values())
+                                self.pubs.values(), p["stall_timeout"])
         self.gate = AckGate(self, p["ack_from"], seconds_to_ns(p["window"]),
                             p["stall_timeout"])
         self.pending = None

@@ -28,6 +28,7 @@ from motoflex_ros.nodes.conversions import (
 from motoflex_ros.nodes.load_actuator import may_end_test
 from motoflex_ros.nodes.params import Param
 from motoflex_ros.nodes.runtime import ACK_TOPIC, RigNode, latched_qos, run_node
+from motoflex_ros.results_file import write_results
 
 __all__ = ["IdentificationNode", "main", "RESULTS_TOPIC"]
 
@@ -125,17 +126,9 @@ class IdentificationNode(RigNode):
                                       f"{result.split.info['split_problem']}")
         if len(self.results) == len(self.setups):
             if self.params["result_file"]:
-                write_results(self.params["result_file"],
-                              {c: self.results[c] for c in self.setups})
+                write_results(self.params["result_file"],   # as ``motoflex identify --out``
+                              {c: self.results[c].to_dict() for c in self.setups})
             self.finished = self.params["exit_when_done"]
-
-
-def write_results(path, results):
-    """{component: ComponentIdentification.to_dict()} written exactly as ``motoflex identify
-    --out`` writes it (JSON, or YAML for .yaml/.yml), atomically.
-    """
-    from motoflex_ros.cli.identify import write_results  # the offline command's writer
-    write_results(path, {name: r.to_dict() for name, r in results.items()})
 
 
 def main(args=None):

@@ -42,7 +42,8 @@ class LoadActuatorNode(RigNode):
     PARAMS = BENCH_PARAMS + (
         Param("ack_from", "identification", description="node whose ack paces the run"),
         Param("wait_for", (), description="nodes that must be ready before the first sample"),
-        Param("stall_timeout", 30.0, 0.1, 3600.0, description="max wait for an ack [s]"),
+        Param("stall_timeout", 30.0, 0.1, 3600.0,
+              description="max wait for an ack, or for a node to be ready [s]"),
         Param("window", 256, 1, 100_000, description="max unacknowledged samples [-]"),
         Param("clock_period", 0.01, 0.0, 1.0, description="/clock every so much sim time [s]"),
     )
@@ -58,7 +59,7 @@ class LoadActuatorNode(RigNode):
         self.phase_pubs = {c: self.advertise(String, topic(c, "phase")) for c in self.setups}
         self.ready = ReadyWatch(self, set(p["wait_for"]) | {p["ack_from"]},
                                 [self.clock_pub, *self.load_pubs.values(),
-                                 *self.phase_pubs.values()])
+                                 *self.phase_pubs.values()], p["stall_timeout"])
         self.subscribe(KeyValue, ACK_TOPIC, self._on_ack)
         self.pending = {c: deque() for c in self.setups}  # ns awaiting their ack
         self.blocked = dict.fromkeys(self.setups, False)  # waiting for a steady sample's ack

@@ -7,7 +7,8 @@ burst of messages. A pacing source
 the slowest acknowledgement. With reliable keep-all QoS nothing is dropped, the queues stay
 bounded, and since every node handles its inputs in order the results do not depend on how fast
 the machine is. Start-up: the source waits until every node it needs has announced itself on
-/rig/ready (its subscriptions see their publishers).
+/rig/ready (its subscriptions see their publishers), saying what it waits for every
+WAIT_LOG_PERIOD_S and giving up after its stall timeout without progress (:class:`Waiting`).
 """
 import time
 
@@ -17,11 +18,37 @@ from std_msgs.msg import String
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.runtime import ACK_TOPIC, MATCH_TIMEOUT_S, READY_TOPIC, latched_qos
 
-__all__ = ["AckGate", "ReadyWatch", "StallError", "MATCH_TIMEOUT_S"]
+__all__ = ["AckGate", "ReadyWatch", "StallError", "Waiting", "MATCH_TIMEOUT_S",
+           "WAIT_LOG_PERIOD_S"]
+
+WAIT_LOG_PERIOD_S = 5.0  # a waiting node says what it waits for this often [s]
 
 
 class StallError(MotoflexError):
-    """A consumer stopped acknowledging (died or hung)."""
+    """A consumer stopped acknowledging (died or hung), or what a node waits for never came."""
+
+
+class Waiting:
+    """What a node waits for: logged when the wait starts and every WAIT_LOG_PERIOD_S; after
+    ``stall_s`` [s] (None: never) waiting for the same thing, :meth:`still` raises StallError.
+    """
+
+    def __init__(self, node, stall_s=None):
+        self.node = node
+        self.stall_s = stall_s
+        self._what = None
+        self._since = self._logged = 0.0
+
+    def still(self, what):
+        """Note that the node still waits for ``what`` (a phrase); log it or give up."""
+        now = time.monotonic()
+        if what != self._what:      # progress: something else to wait for now
+            self._what, self._since = what, now
+        if self._logged == 0.0 or now - self._logged >= WAIT_LOG_PERIOD_S:
+            self.node.get_logger().info(f"waiting for {what}")
+            self._logged = now
+        if self.stall_s is not None and now - self._since > self.stall_s:
+            raise StallError(f"gave up after {self.stall_s:g} s waiting for {what}")
 
 
 class ReadyWatch:
@@ -31,14 +58,16 @@ class ReadyWatch:
     A node announces itself once its subscriptions see their publishers; the publishers' side
     of the same match may come a moment later, and a reliable, volatile publisher drops what it
     sends before (the first messages of a run). After MATCH_TIMEOUT_S the match is not waited
-    for any longer (a warning says so).
+    for any longer (a warning says so). While not ready, ``waiting`` (:class:`Waiting`, with
+    ``stall_s``) says which nodes are missing.
     """
 
-    def __init__(self, node, names, publishers=()):
+    def __init__(self, node, names, publishers=(), stall_s=None):
         self.node = node
         self.names = frozenset(names)
         self.publishers = tuple(publishers)
         self.seen = set()
+        self.waiting = Waiting(node, stall_s)
         self._announced_at = None
         node.subscribe(String, READY_TOPIC, self._on_ready, qos=latched_qos())
 
@@ -48,6 +77,7 @@ class ReadyWatch:
     def ready(self):
         """True when every expected node has announced itself and our publishers are matched."""
         if not self.names <= self.seen:
+            self.waiting.still(f"{', '.join(self.missing())} to announce on {READY_TOPIC}")
             return False
         if self._announced_at is None:
             self._announced_at = time.monotonic()

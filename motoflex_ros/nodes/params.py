@@ -3,14 +3,19 @@
 Values come from ``--ros-args -p name:=value`` and ``--params-file FILE`` (read by
 ``rclpy.init``). Every problem (unknown name, wrong type, out of range, not one of the choices)
 raises :class:`ParameterError` naming the node, the parameter and what is allowed; the node's
-``main`` turns it into a one-line message and exit code 2.
+``main`` turns it into a one-line message and exit code 2. An unknown name that only a
+wildcard section of a params file (``/**:``) gives is for another node: it is ignored, with a
+debug message.
 """
 import math
+import sys
 from dataclasses import dataclass
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.nodes.ros_args import wildcard_only_names
 
-__all__ = ["Param", "ParameterError", "declare_parameters", "BUILTIN_PARAMETERS"]
+__all__ = ["Param", "ParameterError", "declare_parameters", "BUILTIN_PARAMETERS",
+           "parameters_help"]
 
 # parameters every rclpy node may receive without declaring them here
 BUILTIN_PARAMETERS = frozenset({"use_sim_time", "start_type_description_service"})
@@ -52,17 +57,17 @@ class Param:
 
     def check(self, node_name, value):
         """Return ``value`` converted to the parameter's type, or raise ParameterError."""
-        value = _coerce(self.kind, value)
-        bad = value is None
-        if not bad and self.kind in ("int", "float"):
-            bad = not (math.isfinite(value) and self.low <= value <= self.high)
-        if not bad and self.choices:
-            bad = value not in self.choices
-        if bad:
-            raise ParameterError(f"node '{node_name}': parameter '{self.name}' = {value!r} is "
-                                 f"not allowed (expected {self.allowed()})"
-                                 .replace("= None", "has the wrong type"))
-        return value
+        converted = _coerce(self.kind, value)
+        if converted is None:
+            problem = "has the wrong type"
+        elif (self.kind in ("int", "float") and not (
+                math.isfinite(converted) and self.low <= converted <= self.high)) or (
+                self.choices and converted not in self.choices):
+            problem = "is not allowed"
+        else:
+            return converted
+        raise ParameterError(f"node '{node_name}': parameter '{self.name}' = {value!r} "
+                             f"{problem} (expected {self.allowed()})")
 
 
 def _coerce(kind, value):
@@ -80,17 +85,25 @@ def _coerce(kind, value):
     return None
 
 
-def declare_parameters(node, params):
+def declare_parameters(node, params, argv=None):
     """Declare ``params`` on an rclpy ``node``, validate them and return {name: value}.
 
-    Parameters given to the node (command line or params file) that are not in ``params`` raise
-    :class:`ParameterError` listing the known names.
+    Parameters given to the node (``-p`` or a params file section named for it) that are not
+    in ``params`` raise :class:`ParameterError` listing the known names; those only a wildcard
+    section gives are ignored. ``argv`` is the command line rclpy.init read (default
+    ``sys.argv``).
     """
     from rcl_interfaces.msg import ParameterDescriptor
 
     known = {p.name for p in params}
     unknown = sorted(set(node._parameter_overrides) - known - BUILTIN_PARAMETERS
                      - {n for n in node._parameter_overrides if n.startswith("qos_overrides.")})
+    others = wildcard_only_names(sys.argv if argv is None else argv,
+                                 node.get_fully_qualified_name())
+    for name in (n for n in unknown if n in others):
+        node.get_logger().debug(f"ignoring parameter '{name}' of a wildcard params file "
+                                f"section: not a parameter of this node")
+    unknown = [n for n in unknown if n not in others]
     if unknown:
         raise ParameterError(f"node '{node.get_name()}': unknown parameter '{unknown[0]}' "
                              f"(known: {', '.join(sorted(known))})")
@@ -102,3 +115,14 @@ def declare_parameters(node, params):
         value = node.declare_parameter(p.name, default, descriptor).value
         values[p.name] = p.check(node.get_name(), value)
     return values
+
+
+def parameters_help(params):
+    """Lines describing ``params`` for ``--help``: name, type and range, default, meaning."""
+    width = max((len(p.name) for p in params), default=0)
+    return [f"  {p.name:<{width}}  {p.allowed()}, default {_default_text(p)}: {p.description}"
+            for p in params]
+
+
+def _default_text(param):
+    return repr(list(param.default)) if param.kind == "str[]" else repr(param.default)

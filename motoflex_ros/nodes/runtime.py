@@ -15,9 +15,11 @@
   with ``take_message`` until empty: one wait per burst instead of one executor turn per
   message (measured about 13x faster than ``SingleThreadedExecutor.spin_once``, which lost the
   race at about 1,500 messages/s here).
-- :func:`run_node` is every executable's ``main``: ``rclpy.init`` reads ``--ros-args``
+- :func:`run_node` is every executable's ``main``: DDS on loopback unless MOTOFLEX_DDS=network
+  (:mod:`motoflex_ros.launcher.dds`), ``rclpy.init`` reads ``--ros-args``
   (``-p``, ``--params-file``), SIGINT and SIGTERM end the loop cleanly (the node's
-  :meth:`RigNode.close` runs), a parameter error prints one line and exits with 2.
+  :meth:`RigNode.close` runs), a parameter error prints one line and exits with 2;
+  ``--help`` prints the node's parameters with their defaults and exits 0.
 """
 import importlib
 import os
@@ -35,9 +37,11 @@ from rclpy.signals import SignalHandlerOptions
 from std_msgs.msg import String
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.nodes.params import declare_parameters
+from motoflex_ros.launcher.dds import configure_dds
+from motoflex_ros.nodes.params import declare_parameters, parameters_help
 
-__all__ = ["RigNode", "FastSpinner", "run_node", "publish_patiently", "message_class",
+__all__ = ["RigNode", "FastSpinner", "run_node", "print_help", "publish_patiently",
+           "message_class",
            "reliable_qos",
            "latched_qos", "READY_TOPIC", "ACK_TOPIC", "GAP_EXIT_CODE"]
 
@@ -288,23 +292,45 @@ def _init_ros(args):
         raise MotoflexError(f"cannot read the ROS arguments: {message}") from None
 
 
+def _help_asked(args):
+    """Does the command line (not its ROS arguments) ask for -h / --help?"""
+    from rclpy.utilities import remove_ros_args
+    return not {"-h", "--help"}.isdisjoint(remove_ros_args(args)[1:])
+
+
+def print_help(node_class):
+    """What ``node_class`` does (its module's summary) and its parameters, on stdout."""
+    summary = (sys.modules[node_class.__module__].__doc__ or "").strip().split("\n\n")[0]
+    print(f"usage: {node_class.NAME} [--help] [--ros-args [-p NAME:=VALUE]... "
+          f"[--params-file FILE]]\n\n{summary}\n\nparameters (type and range, default: "
+          "meaning):", *parameters_help(node_class.PARAMS), sep="\n")
+
+
+def _refuse(node_class, exc):
+    """A user error before the loop: one line on stderr, exit code 2."""
+    print(f"{node_class.NAME}: error: {exc}", file=sys.stderr)
+    return 2
+
+
 def run_node(node_class, args=None):
     """Run ``node_class`` until it finishes or gets SIGINT/SIGTERM; returns the exit code."""
+    if _help_asked(args):
+        print_help(node_class)
+        return 0
     stop = []
     profile = _profiler()
     try:
+        configure_dds(os.environ)   # loopback unless MOTOFLEX_DDS=network (before rclpy.init)
         _init_ros(args)
     except MotoflexError as exc:
-        print(f"{node_class.NAME}: error: {exc}", file=sys.stderr)
-        return 2
+        return _refuse(node_class, exc)
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, lambda num, _frame: stop.append(signal.Signals(num).name))
     try:
         node = node_class()
     except MotoflexError as exc:
-        print(f"{node_class.NAME}: error: {exc}", file=sys.stderr)
         rclpy.try_shutdown()
-        return 2
+        return _refuse(node_class, exc)
     spinner = FastSpinner(node)
     launcher = os.environ.get("MOTOFLEX_PARENT_PID")
     try:

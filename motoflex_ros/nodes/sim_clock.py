@@ -28,7 +28,8 @@ class SimClock(RigNode):
         Param("window", 64, 1, 1_000_000, description="steps ahead of the slowest ack [-]"),
         Param("ack_from", (), description="nodes that acknowledge on /rig/ack"),
         Param("wait_for", (), description="nodes that must be ready before the first step"),
-        Param("stall_timeout", 10.0, 0.1, 3600.0, description="max wait for an ack [s]"),
+        Param("stall_timeout", 10.0, 0.1, 3600.0,
+              description="max wait for an ack, or for a node to be ready [s]"),
     )
 
     def __init__(self):
@@ -38,7 +39,8 @@ class SimClock(RigNode):
         self.steps = int(round(p["duration"] / p["dt"]))
         self.end_ns = self.steps * self.dt_ns
         self.clock_pub = self.advertise(Clock, "/clock")
-        self.ready = ReadyWatch(self, set(p["wait_for"]) | set(p["ack_from"]), [self.clock_pub])
+        self.ready = ReadyWatch(self, set(p["wait_for"]) | set(p["ack_from"]), [self.clock_pub],
+                                p["stall_timeout"])
         self.gate = AckGate(self, p["ack_from"], p["window"] * self.dt_ns, p["stall_timeout"])
         self.k = None
 
@@ -46,9 +48,13 @@ class SimClock(RigNode):
         """Wait for the graph, then publish as many steps as the window allows."""
         if self.k is None:
             spinner.spin_once(0.05)
-            if self.ready.ready() and self.clock_pub.get_subscription_count() > 0:
+            if not self.ready.ready():
+                return
+            if self.clock_pub.get_subscription_count() > 0:
                 self.k = 0
                 self.gate.touch()
+            else:
+                self.ready.waiting.still("a subscriber of /clock")
             return
         while self.k <= self.steps and self.gate.allows(self.k * self.dt_ns):
             self.clock_pub.publish(clock_msg(self.k * self.dt_ns))

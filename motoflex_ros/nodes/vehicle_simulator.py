@@ -35,6 +35,7 @@ from motoflex_ros.nodes.conversions import (
     results_from_statuses,
     seconds_to_ns,
 )
+from motoflex_ros.nodes.pacing import Waiting
 from motoflex_ros.nodes.params import Param, ParameterError
 from motoflex_ros.nodes.runtime import RigNode, latched_qos, publish_patiently, run_node
 
@@ -79,6 +80,7 @@ class VehicleSimulatorNode(RigNode):
         self.rigid = load_vehicle(resolve_config("vehicles", p["vehicle"]))
         self.components = {n: load_component(n) for n in p["components"]}
         self.identified = {}
+        self.waiting = Waiting(self)
         self.eig_pub = self.create_publisher(DiagnosticArray, "/vehicle/eigenvalues",
                                              latched_qos())
         self.joints_pub = self.advertise(JointState, "/vehicle/joint_states")
@@ -104,16 +106,19 @@ class VehicleSimulatorNode(RigNode):
     def step(self, spinner):
         """Wait for every component's results, then compute and publish, then finish."""
         self.announce_ready()
-        if not all(n in self.identified for n in self.params["components"]):
+        missing = [n for n in self.params["components"] if n not in self.identified]
+        if missing:
+            self.waiting.still(f"the identified results of {', '.join(missing)} on "
+                               "/identification/results")
             spinner.spin_once(0.1)
             return
         self._simulate()
         self.finished = True
 
     def _simulate(self):
+        from motoflex_ros.study.variants import build_variant
         from motoflex_ros.vehicle.linearize import linearize
         from motoflex_ros.vehicle.modes import modal_sweep
-        from motoflex_ros.vehicle.variants import build_variant
         p = self.params
         names = list(p["components"])
         model = build_variant(self.rigid, p["variant"], names, self.identified,

@@ -26,7 +26,8 @@ from motoflex_ros.errors import MotoflexError
 from motoflex_ros.files import atomic_write_bytes
 
 __all__ = ["BagError", "TopicInfo", "BagInfo", "BagMessage", "BagWriter", "message_definition",
-           "type_hash", "bag_info", "read_messages", "repair", "find_mcap", "METADATA_FILE"]
+           "type_hash", "bag_info", "read_messages", "repair", "find_mcap", "METADATA_FILE",
+           "check_new_bag_dir"]
 
 METADATA_FILE = "metadata.yaml"
 BAG_FORMAT_VERSION = 9
@@ -138,6 +139,14 @@ class _FastWriter(Writer):
         self._Writer__maybe_finalize_chunk()
 
 
+def check_new_bag_dir(path):
+    """``path`` (a Path) if it does not exist or is an empty directory, else BagError."""
+    path = Path(path)
+    if path.exists() and (not path.is_dir() or any(path.iterdir())):
+        raise BagError(f"{path}: exists and is not an empty directory; choose another --out")
+    return path
+
+
 class BagWriter:
     """Write a rosbag2 MCAP bag directory from serialized (CDR) messages.
 
@@ -146,10 +155,7 @@ class BagWriter:
     """
 
     def __init__(self, path, chunk_size=DEFAULT_CHUNK_SIZE, compression="zstd"):
-        self.path = Path(path)
-        if self.path.exists() and (not self.path.is_dir() or any(self.path.iterdir())):
-            raise BagError(f"{self.path}: exists and is not an empty directory; "
-                           "choose another --out")
+        self.path = check_new_bag_dir(path)
         self.path.mkdir(parents=True, exist_ok=True)
         self.mcap_file = self.path / f"{self.path.name}_0.mcap"
         self._stream = open(self.mcap_file, "wb")  # noqa: SIM115 (closed in close())

@@ -21,8 +21,8 @@ rosbags type store (no rclpy needed), then logs with :mod:`.rerun_log` and
 
 Result files of the run folder are logged too: identification.json (or identify.json: the
 static, torsion, bending and sweep axes, k_t and k_b) and, only when the bag has no
-/vehicle/eigenvalues, eig.json (eigenvalues against speed of ``motoflex eig``, which the report
-runs on the rigid motorcycle). /vehicle/eigenvalues/model states which one was logged.
+/vehicle/eigenvalues, eig.json (eigenvalues against speed of ``motoflex eig``, which names its
+model). /vehicle/eigenvalues/model states which one was logged.
 
 Times are the header stamps (the rig's simulated time; the bag's log times are the recorder's
 wall clock); ``sim_time`` is measured from the earliest stamp, which is 0 for a simulated run.
@@ -271,7 +271,7 @@ def convert_bag(bag_dir, rrd_path=None, vehicle="touring", progress=False):
     identify = _read_json(bag_dir, "identification.json", "identify.json")
     with bar:
         with rl.RunRecording(rrd_path or rrd_path_of(bag_dir), bag_dir.name,
-                             default_blueprint(sorted(bench))) as run:
+                             default_blueprint) as run:
             converted = _log_all(run.stream, bar, grouped, bench, t0, info, identify, vehicle)
             _step(bar, "writing")
         bar.update(1)

@@ -8,8 +8,8 @@ Used by :mod:`.rerun_bag`. Decodes (rosbags message objects):
   :func:`motoflex_ros.nodes.conversions.axis_marker` draws it), one entity
   /vehicle/joint_axes/<ns>/<id> per marker left after the recorded ADD/DELETE actions;
 - /vehicle/eigenvalues (diagnostic_msgs/DiagnosticArray of the vehicle_simulator node): the
-  tracked modes against speed, preferred over the run folder's eig.json (which the report
-  computes for the rigid motorcycle); /vehicle/eigenvalues/model says which was logged.
+  tracked modes against speed, preferred over the run folder's eig.json (``motoflex eig``,
+  which names its model); /vehicle/eigenvalues/model says which was logged.
 """
 import json
 
@@ -19,6 +19,7 @@ from scipy.spatial.transform import Rotation
 
 from motoflex_ros.record import rerun_vehicle as rv
 from motoflex_ros.units import kmh_to_ms
+from motoflex_ros.vehicle.variants import variant_label
 
 __all__ = ["EIG_TOPIC", "MARKER_TYPE", "times_s", "vec", "quat", "marker_axis",
            "bag_eigenvalues", "log_vehicle_topics", "log_eig_file", "log_vehicle_model"]
@@ -111,9 +112,11 @@ def log_eig_file(rec, eig):
     """Eigenvalues against speed of a ``motoflex eig --json`` result (eig.json), labelled."""
     rv.log_eigenvalues(rec, eig["speeds_mps"], _padded(eig["eigenvalues"]),
                        {m: _pairs(v) for m, v in eig.get("modes", {}).items()})
+    model = (variant_label(eig["variant"], eig["components"]) if "variant" in eig
+             else "model not recorded")
     rec.log("/vehicle/eigenvalues/model", rr.TextDocument(
-        f"Eigenvalues against speed from eig.json (motoflex eig; the report runs it on the "
-        f"rigid motorcycle); the bag has no {EIG_TOPIC}."), static=True)
+        f"Eigenvalues against speed from eig.json (motoflex eig: {model}); the bag has no "
+        f"{EIG_TOPIC}."), static=True)
 
 
 def _padded(eigenvalues):

@@ -20,7 +20,9 @@ path                                       content
 /bench/<c>/axes/<test>                     deformation axis of a test (LineStrips3D, static)
 /bench/<c>/axes/<test>/joint               its revolute joint (Points3D, static)
 /bench/<c>/axes/sweep                      axes of the frequency sweep (one strip per step)
-/identification/<c>/<test>/<name>          identified value (Scalars) at the time it is known
+/identification/<c>/<test>/<name>          identified value (Scalars, drawn as points) at the
+                                           time it is known; its quantity and unit are
+                                           :func:`quantity_of` and :data:`IDENTIFIED_QUANTITIES`
 =========================================  ==================================================
 
 Frames: the bench entities are in the component frame (clamp O at the origin, x forward, z
@@ -38,7 +40,7 @@ from motoflex_ros.report.geometry import axis_from_l_beta, axis_segment
 __all__ = ["TIMELINE", "RunRecording", "log_component_frame",
            "log_structure", "log_structure_model", "log_load", "log_axis", "log_sweep_axes",
            "log_identification", "exaggeration_factor",
-           "subsample_indices", "MAX_SHAPE_FRAMES"]
+           "subsample_indices", "MAX_SHAPE_FRAMES", "IDENTIFIED_QUANTITIES", "quantity_of"]
 
 TIMELINE = "sim_time"
 MAX_SHAPE_FRAMES = 400      # deformed shapes logged per component (evenly subsampled)
@@ -47,6 +49,29 @@ STRUCTURE_COLOR = (230, 130, 30)
 UNDEFORMED_COLOR = (150, 150, 150)
 CLAMP_COLOR = (90, 200, 255)       # light blue, as the clamp dots of the paper's Figs. 2, 5-7
 LOAD_COLOR = (255, 140, 0)         # orange, as the load dots of the paper's Figs. 2, 5-7
+IDENTIFIED_QUANTITIES = {"l": "m", "beta": "rad", "b": "m", "k": "N m/rad", "c": "N m s/rad",
+                         "J": "kg m^2", "f": "Hz", "omega_n": "rad/s", "zeta": "-"}
+"""Unit of each identified quantity (Sect. 4.2 symbols; f the frequency of a test or mode)."""
+_QUANTITY_OF_NAME = {"k_t": "k", "k_b": "k", "f_hz": "f", "omega_n_decay": "omega_n",
+                     "zeta_decay": "zeta"}
+
+
+class _IndexedStream(rr.RecordingStream):
+    """A RecordingStream that keeps the entity paths it logged (``entity_paths``)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.entity_paths = set()
+
+    def log(self, entity_path, *args, **kwargs):
+        """Log as :meth:`rerun.RecordingStream.log`, keeping ``entity_path``."""
+        self.entity_paths.add(entity_path)
+        super().log(entity_path, *args, **kwargs)
+
+    def send_columns(self, entity_path, *args, **kwargs):
+        """Send as :meth:`rerun.RecordingStream.send_columns`, keeping ``entity_path``."""
+        self.entity_paths.add(entity_path)
+        super().send_columns(entity_path, *args, **kwargs)
 
 
 class RunRecording:
@@ -54,20 +79,25 @@ class RunRecording:
 
     It writes to a temporary file next to ``rrd_path``; :meth:`close` renames it into place,
     so no half-written .rrd is left under the final name (as a context manager, an exception
-    deletes the temporary file instead). Axes are REP-103 (right-handed, z up).
+    deletes the temporary file instead). Axes are REP-103 (right-handed, z up). ``layout``, a
+    function of the set of logged entity paths that returns a blueprint, gives the viewer's
+    layout; it is called and sent on :meth:`close`, when every path is known.
     """
 
-    def __init__(self, rrd_path, run_name, blueprint=None):
+    def __init__(self, rrd_path, run_name, layout=None):
         self.path = Path(rrd_path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._tmp = self.path.with_name(f".{self.path.name}.{os.getpid()}.tmp")
-        self.stream = rr.RecordingStream("motoflex_ros", recording_id=str(run_name))
-        self.stream.save(self._tmp, default_blueprint=blueprint)
+        self._layout = layout
+        self.stream = _IndexedStream("motoflex_ros", recording_id=str(run_name))
+        self.stream.save(self._tmp)
         self.stream.send_recording_name(str(run_name))
         self.stream.log("/", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
 
     def close(self, keep=True):
         """Flush and close the stream; move the file into place (``keep``) or delete it."""
+        if keep and self._layout is not None:
+            self.stream.send_blueprint(self._layout(self.stream.entity_paths))
         self.stream.flush()
         self.stream.disconnect()
         if keep:
@@ -244,11 +274,25 @@ def log_sweep_axes(rec, component, frequencies_hz, ls, betas, q0, half_length=No
     return len(strips)
 
 
+def quantity_of(name):
+    """The quantity of :data:`IDENTIFIED_QUANTITIES` an identified value's name gives, or None.
+
+    'k_t' and 'k_b' are stiffnesses k; a mode's value is named '<mode>.<name>'
+    ('torsion.f_hz'); bookkeeping ('ci.level', 'n_samples_decay') has no quantity.
+    """
+    *prefix, base = name.split(".")
+    if "ci" in prefix:
+        return None
+    quantity = _QUANTITY_OF_NAME.get(base, base)
+    return quantity if quantity in IDENTIFIED_QUANTITIES else None
+
+
 def log_identification(rec, component, test, values, time_s):
     """Identified values of one test as scalars at ``time_s`` [s] of simulated time.
 
     ``values`` maps names (l, beta, b, k, c, J, f_hz, k_t, k_b, ...) to numbers in SI units;
-    non-numeric or non-finite entries are skipped. Returns the names logged.
+    non-numeric or non-finite entries are skipped. A value with a quantity is drawn as a point
+    named for its test and unit. Returns the names logged.
     """
     rec.set_time(TIMELINE, duration=float(time_s))
     logged = []
@@ -257,6 +301,11 @@ def log_identification(rec, component, test, values, time_s):
             continue
         if not np.isfinite(value):
             continue
-        rec.log(f"/identification/{component}/{test}/{name}", rr.Scalars(float(value)))
+        path = f"/identification/{component}/{test}/{name}"
+        quantity = quantity_of(name)
+        if quantity is not None:
+            rec.log(path, rr.SeriesPoints(
+                names=[f"{test} {name} [{IDENTIFIED_QUANTITIES[quantity]}]"]), static=True)
+        rec.log(path, rr.Scalars(float(value)))
         logged.append(name)
     return logged

@@ -184,8 +184,8 @@ def vehicle_model(vehicle="touring", identified=None):
     from motoflex_ros.config import MOTORCYCLE_COMPONENTS, resolve_config
     from motoflex_ros.errors import MotoflexError
     from motoflex_ros.structures import load_component
+    from motoflex_ros.study.variants import build_variant
     from motoflex_ros.vehicle.model import load_vehicle
-    from motoflex_ros.vehicle.variants import build_variant
     rigid = load_vehicle(resolve_config("vehicles", vehicle))
     names = [n for n in MOTORCYCLE_COMPONENTS if n in (identified or {})]
     if not names:

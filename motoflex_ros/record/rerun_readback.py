@@ -1,17 +1,20 @@
-"""Read a saved rerun recording back: rows per entity path, scalar values, CLI verification.
+"""Read a saved rerun recording back: rows per entity path, scalar values, the blueprint's
+views and the entities they show, CLI verification.
 
 Used by tests and by ``motoflex rerun`` to check what it wrote. rerun-sdk 0.41 has no
 ``rerun.dataframe``; the recording is read with ``rerun.chunk.RrdReader``.
 """
 import shutil
 import subprocess
+import uuid
 from collections import Counter
+from dataclasses import dataclass
 from pathlib import Path
 
 from rerun.chunk import RrdReader
 
 __all__ = ["entity_rows", "scalar_values", "component_rows", "verify_text", "rerun_executable",
-           "recordings"]
+           "recordings", "BlueprintView", "blueprint_views", "query_entities"]
 
 
 def recordings(rrd_path):
@@ -84,3 +87,82 @@ def verify_text(rrd_path):
     result = subprocess.run([rerun_executable(), "rrd", "verify", str(rrd_path)],
                             capture_output=True, text=True, timeout=120)
     return f"exit {result.returncode}\n{result.stdout}{result.stderr}"
+
+
+@dataclass(frozen=True)
+class BlueprintView:
+    """A view of a stored blueprint: class ('TimeSeries', '3D', ...), name, origin, query."""
+
+    kind: str
+    name: str
+    origin: str
+    query: tuple
+
+
+def _blueprint_fields(rrd_path):
+    """{entity path: {column: last value}} of the file's (first) blueprint store."""
+    reader = RrdReader(Path(rrd_path))
+    fields = {}
+    for store in reader.blueprints()[:1]:
+        for chunk in reader.stream(store=store).to_chunks():
+            batch = chunk.to_record_batch()
+            last = fields.setdefault(chunk.entity_path, {})
+            for name, column in zip(batch.schema.names, batch.columns):
+                values = [v for v in column.to_pylist() if v is not None]
+                if ":" in name and values:
+                    last[name] = values[-1]
+    return fields
+
+
+def blueprint_views(rrd_path):
+    """The views the stored blueprint shows, in layout order: walked from the viewport's root
+    container through the containers' contents (views no container holds are not shown)."""
+    fields = _blueprint_fields(rrd_path)
+    root = fields.get("/viewport", {}).get("ViewportBlueprint:root_container")
+    pending = [f"container/{uuid.UUID(bytes=bytes(root[0]))}"] if root else []
+    views = []
+    while pending:
+        item = pending.pop(0)
+        entry = fields.get(f"/{item}", {})
+        if item.startswith("container/"):
+            pending[:0] = entry.get("ContainerBlueprint:contents", [])
+            continue
+        views.append(BlueprintView(
+            entry["ViewBlueprint:class_identifier"][0],
+            entry.get("ViewBlueprint:display_name", [""])[0],
+            entry["ViewBlueprint:space_origin"][0],
+            tuple(fields.get(f"/{item}/ViewContents", {}).get("ViewContents:query",
+                                                              ["$origin/**"]))))
+    return views
+
+
+def _rule(expression, origin):
+    """(path parts, whole subtree, include) of one query expression ('+ /a/**', '- /a/b')."""
+    text = expression.strip()
+    include = not text.startswith("-")
+    text = text.lstrip("+-").strip().replace("$origin", origin)
+    subtree = text == "**" or text.endswith("/**")
+    path = text[:-2] if subtree else text
+    return tuple(p for p in path.split("/") if p), subtree, include
+
+
+def query_entities(query, origin, entity_paths):
+    """The ``entity_paths`` a view's query expressions select, as rerun evaluates them.
+
+    An expression includes (optional '+') or excludes ('-') one path, or with a trailing
+    '/**' the path and its whole subtree; '$origin' is the view's origin. Of the rules that
+    match a path the most specific wins (the longer path; at the same path the exact rule),
+    among equals the last; a path no rule matches is left out. A '*' elsewhere is a plain
+    path part (rerun supports no other wildcard).
+    """
+    rules = [_rule(line, origin) for expression in query for line in expression.splitlines()
+             if line.strip()]
+    selected = []
+    for path in entity_paths:
+        parts = tuple(p for p in path.split("/") if p)
+        matches = [((len(rule), not subtree, i), include)
+                   for i, (rule, subtree, include) in enumerate(rules)
+                   if parts == rule or (subtree and parts[:len(rule)] == rule)]
+        if matches and max(matches)[1]:
+            selected.append(path)
+    return selected

@@ -13,6 +13,7 @@ from motoflex_ros.report import tables
 from motoflex_ros.report.html import Figure, Missing, Section, render
 from motoflex_ros.report.sources import FIG9_VARIANTS, load_run_data
 from motoflex_ros.structures.published import COMPONENTS
+from motoflex_ros.vehicle.variants import variant_label
 
 __all__ = ["build_report", "SECTIONS", "REPORT_FILE"]
 
@@ -71,8 +72,14 @@ def _sensitivity(data, files):
 
 
 def _vehicle(data, files):
-    return [Figure("eig_touring", "Touring motorcycle (rigid): weave and wobble against speed",
-                   _figures().fig9_figure({"rigid": data["eig"]}))]
+    eig = data["eig"]
+    if "variant" in eig:
+        variant, label = eig["variant"], variant_label(eig["variant"], eig["components"])
+    else:
+        variant, label = "unknown", f"model not recorded in {files['eig']}"
+    return [Figure("eig_touring", f"{eig.get('vehicle', 'touring').capitalize()} motorcycle, "
+                   f"{label}: weave and wobble against speed",
+                   _figures().fig9_figure({variant: eig}))]
 
 
 def _whipple(data, files):
@@ -106,8 +113,9 @@ def _section(run_data, spec):
         return Section(section_id, title, (Missing(title, missing or f"incomplete data ({exc})"),))
 
 
-def build_report(folder, compute=True, progress=True):
-    """Write ``folder``/report.html; returns (path, sections)."""
+def build_report(folder, compute=True, progress=True, warning=None):
+    """Write ``folder``/report.html (``warning``, e.g. an incomplete run, at the top); returns
+    (path, sections)."""
     run_data = load_run_data(folder, compute=compute, progress=progress)
     sections = []
     bar = tqdm(SECTIONS, desc="report sections", unit="section", disable=not progress,
@@ -119,7 +127,7 @@ def build_report(folder, compute=True, progress=True):
         run_data.timings.append((f"section: {spec[0]}", time.perf_counter() - start))
     sections.append(Section("timings", "Timings", (tables.timings_table(run_data),)))
     sources = sorted(run_data.origins.items())
-    html = render(f"motoflex_ros run report: {folder.name}", sections, sources)
+    html = render(f"motoflex_ros run report: {folder.name}", sections, sources, warning)
     path = folder / REPORT_FILE
     atomic_write_text(path, html)
     return path, sections

@@ -17,6 +17,7 @@ th:first-child, td:first-child { text-align: left; }
 td[data-kind=paper] { color: #555; } td[data-kind=diff] { font-style: italic; }
 .na { color: #a33; } figure { margin: 1em 0; } img { max-width: 100%; }
 .sources { font-size: 0.85em; color: #555; }
+.warning { border: 2px solid #a33; background: #fee; padding: 0.5em 1em; font-weight: bold; }
 """
 
 
@@ -83,12 +84,15 @@ def _part(part):
     return _table(part)
 
 
-def render(title, sections, sources):
-    """The whole HTML document; ``sources`` lists where each JSON came from."""
+def render(title, sections, sources, warning=None):
+    """The whole HTML document; ``sources`` lists where each JSON came from; ``warning`` (e.g.
+    an incomplete run) comes first, right under the title."""
     items = "".join(f"<li>{html.escape(name)}: {html.escape(origin)}</li>"
                     for name, origin in sources)
     body = "".join(f'<section id="{s.id}"><h2>{html.escape(s.title)}</h2>'
                    + "".join(_part(p) for p in s.parts) + "</section>" for s in sections)
+    notice = (f'<p class="warning" id="warning">{html.escape(warning)}</p>' if warning else "")
     return (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>'
             f"{html.escape(title)}</title><style>{CSS}</style></head><body><h1>"
-            f'{html.escape(title)}</h1><ul class="sources">{items}</ul>{body}</body></html>\n')
+            f'{html.escape(title)}</h1>{notice}<ul class="sources">{items}</ul>{body}'
+            "</body></html>\n")

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from tqdm import tqdm
 
 from motoflex_ros.cli.output import atomic_write_text, emit_json
+from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
 
 __all__ = ["Source", "SOURCES", "RunData", "load_run_data", "FIG9_VARIANTS"]
 
@@ -38,7 +39,10 @@ class Source:
 SOURCES = (
     Source("components", "components.json", ("components",)),
     Source("identify", "identify.json", ("identify",), ("identification.json",)),
-    Source("eig", "eig.json", ("eig", "--vehicle", "touring", *SWEEP)),
+    # the motorcycle the campaign prints: its vehicle_simulator's variant of the identified values
+    Source("eig", "eig.json", ("eig", "--vehicle", "touring", "--flex", VEHICLE_VARIANT,
+                               "--components", ",".join(VEHICLE_COMPONENTS),
+                               "--identified", IDENTIFIED, *SWEEP)),
     Source("accuracy", "accuracy.json", ("study", "accuracy", "--identified", IDENTIFIED)),
     Source("sensitivity", "sensitivity.json", ("study", "sensitivity", "--identified",
                                                IDENTIFIED)),

@@ -17,11 +17,13 @@ from motoflex_ros.identify.axis import axis_stiffness, deformation_axis
 from motoflex_ros.spatial import skew
 
 __all__ = ["ReducedComponent", "StaticResult", "label_mode", "end_pose", "modal_damping",
-           "state_space", "reduce_clamped", "end_share"]
+           "state_space", "reduce_clamped", "end_share", "eigenspaces", "DEGENERATE_RTOL",
+           "check_one_ratio_per_eigenspace", "clamped_frequencies"]
 
 LATERAL = (1, 3, 5)     # u_y, theta_x, theta_z at the loaded end
 PLANAR = (0, 2, 4)      # u_x, u_z, theta_y
 LOCAL_SHARE = 0.2       # loaded-end amplitude below 20 % of the largest node motion: 'local'
+DEGENERATE_RTOL = 1e-6  # modes closer than this (relative) share one eigenspace
 
 
 def end_pose(end_motion, q0, scale=1.0):
@@ -93,12 +95,51 @@ def mode_axis(end_motion, q0):
         return deformation_axis(q, rot, q0)
 
 
+def eigenspaces(omega, rtol=DEGENERATE_RTOL):
+    """Eigenspaces of ascending natural frequencies ``omega`` [rad/s]: lists of mode indices.
+
+    Modes whose frequencies lie within ``rtol`` (relative to the largest) of the first mode of
+    their group form one eigenspace. Inside it the eigensolver may return any orthonormal basis
+    (a symmetric tube's bending pairs: which of the two comes first depends on the BLAS
+    kernel), so only what is the same for every basis has a meaning there.
+    """
+    omega = np.asarray(omega, float)
+    scale = rtol * max(float(np.max(np.abs(omega), initial=0.0)), 1e-300)
+    groups = []
+    for i, w in enumerate(omega):
+        if groups and abs(w - omega[groups[-1][0]]) <= max(scale, rtol * abs(w)):
+            groups[-1].append(i)
+        else:
+            groups.append([i])
+    return groups
+
+
+def check_one_ratio_per_eigenspace(zeta, omega):
+    """ModelError unless every eigenspace of ``omega`` gets one damping ratio from ``zeta``."""
+    for group in eigenspaces(omega):
+        ratios = [float(zeta[i]) for i in group]
+        if max(ratios) - min(ratios) > 1e-12:
+            modes = ", ".join(str(i + 1) for i in group)
+            raise ModelError(f"damping ratio: modes {modes} share one frequency "
+                             f"({omega[group[0]] / (2 * np.pi):.6g} Hz, a degenerate "
+                             f"eigenspace whose mode shapes are defined only up to a rotation), "
+                             f"so they need one ratio; got {', '.join(f'{r:g}' for r in ratios)}")
+
+
+def clamped_frequencies(M, K):
+    """Natural frequencies [rad/s] of (M, K), ascending."""
+    return np.sqrt(np.maximum(sla.eigh(K, M, eigvals_only=True), 0.0))
+
+
 def modal_damping(M, K, zeta):
     """Damping matrix giving mode i of (M, K) the ratio zeta_i [N s/m..].
 
     C = M Phi diag(2 zeta_i omega_i) Phi^T M with Phi mass-normalised (Phi^T M Phi = 1), modes
     in ascending frequency. ``zeta`` [-]: one ratio for all modes, or one per mode (ModelError
-    when the count differs from the number of modes).
+    when the count differs from the number of modes, or when the modes of one degenerate
+    eigenspace get different ratios: the damping would then depend on which basis of the
+    eigenspace the eigensolver returned). With one ratio per eigenspace C does not depend on
+    that basis: the eigenspace enters only through its projector Phi_g Phi_g^T.
     """
     w2, phi = sla.eigh(K, M)
     omega = np.sqrt(np.maximum(w2, 0.0))
@@ -106,6 +147,8 @@ def modal_damping(M, K, zeta):
         raise ModelError(f"damping ratio: {len(zeta)} values given, but the clamped reduced "
                          f"model has {len(omega)} modes (its free interface DOFs plus the "
                          f"kept fixed-interface modes); give one value or {len(omega)}")
+    if np.ndim(zeta):
+        check_one_ratio_per_eigenspace(zeta, omega)
     zeta = np.asarray(zeta, float)
     mphi = M @ phi
     return (mphi * (2 * zeta * omega)) @ mphi.T

@@ -20,7 +20,11 @@ from motoflex_ros.config import Field, number, resolve_config, validate
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.structures.assembly import Structure
 from motoflex_ros.structures.beam import Material, tube_section
-from motoflex_ros.structures.clamped import reduce_clamped
+from motoflex_ros.structures.clamped import (
+    check_one_ratio_per_eigenspace,
+    clamped_frequencies,
+    reduce_clamped,
+)
 from motoflex_ros.structures.craig_bampton import craig_bampton
 from motoflex_ros.structures.schema import load_component_config, structure_from_config
 
@@ -100,13 +104,22 @@ class Component:
 
     def _check_damping_count(self, cb):
         """ConfigError (file, key damping_ratio) when a per-mode list does not have one value
-        per mode of the clamped reduced model."""
-        n = len(self.clamped_coordinates(cb)[0])
+        per mode of the clamped reduced model, or gives the modes of one degenerate eigenspace
+        different values (:func:`check_one_ratio_per_eigenspace`)."""
+        keep = self.clamped_coordinates(cb)[0]
+        n = len(keep)
         if np.ndim(cb.zeta) and len(cb.zeta) != n:
             raise ConfigError(self.source or self.name, "damping_ratio",
                               f"{len(cb.zeta)} values given; the clamped reduced model has "
                               f"{n} modes ({n - cb.n_modes} free interface DOFs + "
                               f"{cb.n_modes} fixed-interface modes): give one value or {n}")
+        if np.ndim(cb.zeta):
+            sub = np.ix_(keep, keep)
+            try:
+                check_one_ratio_per_eigenspace(cb.zeta, clamped_frequencies(cb.M[sub],
+                                                                            cb.K[sub]))
+            except ModelError as exc:
+                raise ConfigError(self.source or self.name, "damping_ratio", str(exc)) from None
 
     def clamped_reduced(self, n_modes=20, f_max_hz=600.0, zeta=None):
         """Clamped reduced model (clamp-node DOFs removed) for the bench: ReducedComponent.

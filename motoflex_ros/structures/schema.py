@@ -9,10 +9,10 @@ import numpy as np
 
 from motoflex_ros.config import Field, angle, load_yaml, number, positive, validate
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.inertia import check_inertia
 from motoflex_ros.limits import check_limit
 from motoflex_ros.structures.assembly import Structure
 from motoflex_ros.structures.beam import Material, rectangular_tube_section, tube_section
-from motoflex_ros.vehicle.model import check_inertia
 
 __all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "load_component_config", "structure_from_config"]
 

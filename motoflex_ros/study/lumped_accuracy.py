@@ -12,10 +12,10 @@ import numpy as np
 
 from motoflex_ros.errors import ModelError
 from motoflex_ros.study.accuracy import rms_error_percent
+from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.lumped import COMPONENTS
 from motoflex_ros.vehicle.modes import modal_sweep
-from motoflex_ros.vehicle.variants import build_variant
 
 __all__ = ["CASES", "ACCURACY_VARIANTS", "QUANTITIES", "AccuracyResult", "accuracy_study",
            "mode_errors"]

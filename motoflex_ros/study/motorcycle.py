@@ -50,7 +50,7 @@ def nominal_stiffness(identified):
     ConfigError for a missing value; ModelError naming the component when its eq. (12) split
     is not identifiable (flagged, or not a positive finite number).
     """
-    from motoflex_ros.vehicle.lumped import check_split_identifiable
+    from motoflex_ros.study.variants import check_split_identifiable
     nominal = {}
     for factor in FACTORS:
         component, key = FACTOR_KEYS[factor]
@@ -108,11 +108,11 @@ def decomposed_study(vehicle, components, identified, speeds):
         Speed grid [m/s] (e.g. 40-210 km/h).
 
     """
+    from motoflex_ros.study.variants import build_variant
     from motoflex_ros.vehicle.dynamics import build_system
     from motoflex_ros.vehicle.linearize import linearize, linearize_at
     from motoflex_ros.vehicle.lumped import COMPONENTS
     from motoflex_ros.vehicle.modes import modal_sweep
-    from motoflex_ros.vehicle.variants import build_variant
 
     nominal = nominal_stiffness(identified)
 

@@ -18,12 +18,15 @@ import numpy as np
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.spatial import cross
 from motoflex_ros.vehicle.contact import GROUND_NORMAL, contact_state
-from motoflex_ros.vehicle.kinematics import compile_tree, frame_states
+from motoflex_ros.vehicle.kinematics import compile_tree, coordinate_names_of, frame_states
+from motoflex_ros.vehicle.loops import loop_rows
 
 __all__ = ["VehicleSystem", "build_system", "bind_elements", "residual", "positions",
-           "generalized_force_residual"]
+           "dependent_speeds", "generalized_force_residual"]
 
 _NEWTON_STEPS = 3
+_LOOP_NEWTON_STEPS = 6      # loop closure is nonlinear in the joint angles away from x = 0
+_RANK_TOL = 1e-8
 
 
 @dataclass(frozen=True)
@@ -40,6 +43,7 @@ class VehicleSystem:
     constraints: tuple
     state_names: tuple
     elements: tuple = ()
+    loop_dep: tuple = ()
 
     @property
     def n_states(self):
@@ -52,19 +56,83 @@ class VehicleSystem:
         return 2 * sum(w.tyre is not None for w in self.model.wheels)
 
 
-def _partition(tree, wheels):
+def _partition(tree, wheels, loop_dep, base="floating"):
+    """Index lists (indep_pos, dep_pos, indep_speed, dep_speed, rolling constraints).
+
+    Floating base: roll and the joint coordinates are independent, height and pitch follow from
+    the contact heights; on a fixed base (a mechanism on a stand) the base coordinates are held
+    at zero and only joint coordinates remain. Coordinates solved from loop closures and locks
+    (``loop_dep``) are dependent in position and speed.
+    """
     idx = tree.index
+    joints = [k for k, c in enumerate(tree.coordinates)
+              if c.group == "joint" and k not in loop_dep]
+    if base == "fixed":
+        return joints, list(loop_dep), list(joints), list(loop_dep), []
     knife = [w for w in wheels if w.tyre is None]
     lateral_dep = [idx("y"), idx("yaw")][:len(knife)]
     spins = [k for k, c in enumerate(tree.coordinates) if c.group == "spin"]
-    dep_speed = [idx("z"), idx("pitch"), *spins, *lateral_dep]
-    joints = [k for k, c in enumerate(tree.coordinates) if c.group == "joint"]
+    dep_speed = [idx("z"), idx("pitch"), *spins, *lateral_dep, *loop_dep]
     indep_pos = [idx("roll"), *joints]
     lateral_free = [k for k in (idx("y"), idx("yaw")) if k not in lateral_dep]
     indep_speed = [*lateral_free, *indep_pos]
     constraints = [(i, d) for i, w in enumerate(wheels)
                    for d in (("long", "lat", "normal") if w.tyre is None else ("long", "normal"))]
-    return indep_pos, [idx("z"), idx("pitch")], indep_speed, dep_speed, constraints
+    return indep_pos, [idx("z"), idx("pitch"), *loop_dep], indep_speed, dep_speed, constraints
+
+
+def _loop_description(tree):
+    cuts = [c.joint.name for c in tree.cut_joints]
+    locks = [c.name for c in tree.coordinates if c.locked]
+    parts = [f"cut joints {', '.join(cuts)}" if cuts else "", f"locked {', '.join(locks)}"
+             if locks else ""]
+    return " and ".join(p for p in parts if p)
+
+
+def _loop_dependent(model, tree):
+    """Coordinates solved from the loop-closure and lock constraints (coordinate partitioning).
+
+    Locked coordinates first; then, greedily, joint coordinates in order of declaration whose
+    constraint column adds rank (a coordinate named by a role, e.g. the steering angle, only
+    when nothing else will do). Declaration order keeps the mechanism's own joints dependent
+    and the coordinates a variant appends (lumped hinges, superelement end DOFs) independent.
+    ConfigError when the constraints are redundant (rank below their count): a loop that is
+    over-constrained.
+    """
+    n = len(tree.coordinates)
+    zero = np.zeros(n)
+    G = loop_rows(tree, frame_states(tree, zero, zero), zero).G
+    if G.shape[0] == 0:
+        return ()
+    joints = [k for k, c in enumerate(tree.coordinates) if c.group == "joint"]
+    sv = np.linalg.svd(G[:, joints], compute_uv=False)
+    rank = int(np.sum(sv > _RANK_TOL * max(sv[0], 1e-300)))
+    if rank < G.shape[0]:
+        raise ConfigError(model.source, "joints",
+                          f"redundant or over-constrained loop: {_loop_description(tree)} give "
+                          f"{G.shape[0]} constraint equations of rank {rank}; make the "
+                          f"mechanism exactly constrained (e.g. a spherical instead of a "
+                          f"revolute joint where a planar loop closes)")
+    roles = set(model.roles.values())
+    declared = {name: i for i, joint in enumerate(model.joints)
+                for name in coordinate_names_of(joint)}
+    joints = sorted(joints, key=lambda k: (declared.get(tree.coordinates[k].name, len(declared)),
+                                           k))
+    locked = [k for k in joints if tree.coordinates[k].locked]
+    others = [k for k in joints if k not in locked]
+    order = locked + [k for k in others if tree.coordinates[k].name not in roles]
+    order += [k for k in others if tree.coordinates[k].name in roles]
+    chosen, basis = [], np.zeros((G.shape[0], 0))
+    for k in order:
+        col = G[:, k]
+        norm = np.linalg.norm(col)
+        rest = col - basis @ (basis.T @ col)
+        if norm > 1e-12 and np.linalg.norm(rest) > _RANK_TOL * norm:
+            chosen.append(k)
+            basis = np.column_stack([basis, rest / np.linalg.norm(rest)])
+        if len(chosen) == G.shape[0]:
+            break
+    return tuple(sorted(chosen))
 
 
 def _state_names(tree, indep_pos, indep_speed, wheels):
@@ -85,15 +153,21 @@ def bind_elements(elements, tree):
 def build_system(model):
     """Compile a VehicleModel into a VehicleSystem and check the reference contact."""
     tree = compile_tree(model)
-    ip, dp, isp, dsp, cons = _partition(tree, model.wheels)
-    if len(cons) != len(dsp):
-        raise ModelError(f"{model.source}: {len(cons)} rolling constraints for {len(dsp)} "
-                         "dependent speeds; use two wheels, both knife-edge or both tyred")
+    loop_dep = _loop_dependent(model, tree)
+    ip, dp, isp, dsp, cons = _partition(tree, model.wheels, loop_dep, model.base)
+    if len(cons) + len(loop_dep) != len(dsp):
+        raise ModelError(f"{model.source}: {len(cons)} rolling constraints for "
+                         f"{len(dsp) - len(loop_dep)} dependent speeds; use two wheels, both "
+                         "knife-edge or both tyred")
     system = VehicleSystem(model, tree, tuple(ip), tuple(dp), tuple(isp), tuple(dsp),
                            tuple(cons), _state_names(tree, ip, isp, model.wheels),
-                           bind_elements(model.elements, tree))
+                           bind_elements(model.elements, tree), loop_dep)
     n = len(tree.coordinates)
     frames = frame_states(tree, np.zeros(n), np.zeros(n))
+    gap = loop_rows(tree, frames, np.zeros(n)).g
+    if gap.size and np.max(np.abs(gap)) > 1e-9:
+        raise ModelError(f"{model.source}: the loops ({_loop_description(tree)}) do not close "
+                         f"in the reference configuration (largest gap {np.max(np.abs(gap)):.3g})")
     for wheel, f in zip(model.wheels, tree.wheel_frames):
         height = contact_state(wheel, frames[f], np.zeros(n)).height
         if abs(height) > 1e-6:
@@ -111,20 +185,41 @@ def _contacts(system, q, u):
     return frames, contacts
 
 
-def _solve_positions(system, q):
+def _solve_positions(system, q, steps=None):
+    """Dependent coordinates from the contact heights and the loop closures (fixed-count
+    Newton iteration, complex-step safe). ``steps`` None: enough for finite motions."""
     zero = np.zeros_like(q)
     dep = list(system.dep_pos)
-    for _ in range(_NEWTON_STEPS):
-        _, contacts = _contacts(system, q, zero)
-        heights = np.array([c.height for c in contacts])
-        jac = np.array([GROUND_NORMAL @ c.J[:, dep] for c in contacts])
-        q[dep] = q[dep] - np.linalg.solve(jac, heights)
+    if not dep:
+        return q
+    if steps is None:
+        steps = _LOOP_NEWTON_STEPS if system.loop_dep else _NEWTON_STEPS
+    for _ in range(steps):
+        frames, contacts = _contacts(system, q, zero)
+        loops = loop_rows(system.tree, frames, q)
+        values = [np.array([c.height for c in contacts]), loops.g]
+        jac = [np.array([GROUND_NORMAL @ c.J[:, dep] for c in contacts]).reshape(-1, len(dep)),
+               loops.G[:, dep]]
+        q[dep] = q[dep] - np.linalg.solve(np.vstack(jac), np.concatenate(values))
     return q
 
 
-def _constraint_rows(system, contacts):
+def _constraint_rows(system, frames, contacts, q):
+    """Velocity rows G (rolling, then loops and locks) and their bias (G u' + bias = 0)."""
     rows = [contacts[i].row(d) for i, d in system.constraints]
-    return np.array([r for r, _ in rows]), np.array([b for _, b in rows])
+    loops = loop_rows(system.tree, frames, q)
+    n = len(system.tree.coordinates)
+    G = np.array([r for r, _ in rows]).reshape(-1, n)
+    bias = np.array([b for _, b in rows])
+    return np.vstack([G, loops.G]), np.concatenate([bias, loops.bias])
+
+
+def dependent_speeds(system, q, known):
+    """All speeds u at coordinates q: ``known`` (n,) gives the forward speed and the
+    independent speeds, the dependent ones follow from the rolling, loop and lock rows
+    G u = 0."""
+    frames, contacts = _contacts(system, q, known)
+    return _solve_dependent(system, _constraint_rows(system, frames, contacts, q)[0], known)
 
 
 def _solve_dependent(system, G, known, extra=0.0):
@@ -165,13 +260,16 @@ def _joint_spring_dampers(system, q, u):
     return np.array([c.stiffness * q[k] + c.damping * u[k] for k, c in enumerate(coords)])
 
 
-def positions(system, x):
+def positions(system, x, newton_steps=None):
     """All coordinates q at the state x: independent ones from x, height and pitch of the base
-    from the contact-height constraints (fixed-count Newton)."""
+    from the contact-height constraints and the loop coordinates from the loop closures
+    (fixed-count Newton from q = 0). ``newton_steps`` None: enough for finite motions; 1 is
+    exact for a complex-step perturbation of the reference, where q = 0 solves the
+    constraints and one step gets the imaginary part to first order, which is all there is."""
     nq = len(system.indep_pos)
     q = np.zeros(len(system.tree.coordinates), np.result_type(x, float))
     q[list(system.indep_pos)] = x[:nq]
-    return _solve_positions(system, q)
+    return _solve_positions(system, q, newton_steps)
 
 
 def residual(system, xdot, x, v, applied=None, q=None):
@@ -186,20 +284,19 @@ def residual(system, xdot, x, v, applied=None, q=None):
     dtype = np.result_type(xdot, x, float)
     q = positions(system, x) if q is None else q
     known = np.zeros(n, dtype)
-    known[0] = v
+    if system.model.base == "floating":
+        known[0] = v
     known[list(system.indep_speed)] = x[nq:nq + nu]
-    _, contacts = _contacts(system, q, known)
-    G, _ = _constraint_rows(system, contacts)
-    u = _solve_dependent(system, G, known)
+    u = dependent_speeds(system, q, known)
     frames, contacts = _contacts(system, q, u)
-    G, bias = _constraint_rows(system, contacts)
+    G, bias = _constraint_rows(system, frames, contacts, q)
     acc = np.zeros(n, dtype)
     acc[list(system.indep_speed)] = xdot[nq:nq + nu]
     udot = _solve_dependent(system, G, acc, bias)
     forces = generalized_force_residual(system, frames, u, udot)
     forces += _joint_spring_dampers(system, q, u)
     tyre_rows = _tyre_forces_and_rows(system, frames, contacts, xdot[nq + nu:], x[nq + nu:], v)
-    forces -= tyre_rows[1]
+    forces = forces - tyre_rows[1]
     if applied is not None:
         forces = forces - applied
     for element in system.elements:
@@ -213,7 +310,7 @@ def _tyre_forces_and_rows(system, frames, contacts, xdot_z, z, v):
     """Relaxation rows and the generalised force of the tyre side forces and moments."""
     n = len(system.tree.coordinates)
     rows = []
-    force = np.zeros(n, np.result_type(z, contacts[0].J))
+    force = np.zeros(n, np.result_type(z, frames[-1].R))
     k = 0
     for wheel, f, c in zip(system.model.wheels, system.tree.wheel_frames, contacts):
         tyre = wheel.tyre

@@ -18,8 +18,8 @@ import numpy as np
 from motoflex_ros.errors import ModelError
 from motoflex_ros.spatial import cross, rotation, skew
 
-__all__ = ["Coordinate", "MassItem", "Tree", "FrameState", "compile_tree", "frame_states",
-           "BASE_NAMES"]
+__all__ = ["Coordinate", "MassItem", "Tree", "FrameState", "CutJoint", "compile_tree",
+           "frame_states", "coordinate_names_of", "BASE_NAMES"]
 
 BASE_NAMES = ("x", "y", "z", "yaw", "roll", "pitch")
 _BASE_AXES = ((1, 0, 0), (0, 1, 0), (0, 0, 1), (0, 0, 1), (1, 0, 0), (0, 1, 0))
@@ -39,6 +39,18 @@ class Coordinate:
     point: np.ndarray
     stiffness: float = 0.0
     damping: float = 0.0
+    locked: bool = False
+
+
+@dataclass(frozen=True)
+class CutJoint:
+    """A joint that closes a kinematic loop: both bodies are already in the tree, so instead of
+    coordinates it adds constraint equations between the parent frame and the child frame
+    (:mod:`motoflex_ros.vehicle.loops`). ``joint`` is the model's Joint."""
+
+    joint: object
+    parent_frame: int
+    child_frame: int
 
 
 @dataclass(frozen=True)
@@ -60,6 +72,7 @@ class Tree:
     masses: tuple
     body_frames: dict
     wheel_frames: tuple
+    cut_joints: tuple = ()
 
     def index(self, name):
         """Index of the coordinate called ``name``."""
@@ -96,31 +109,50 @@ def _wheel_mass(wheel, frame):
     return MassItem(wheel.name, frame, wheel.mass, wheel.centre, wheel.inertia)
 
 
+def coordinate_names_of(joint):
+    """Names of a joint's coordinates: the joint's name for the first, then name_2, name_3
+    (so a role naming a spherical steering joint is its rotation about the steering axis)."""
+    return [joint.name] + [f"{joint.name}_{i}" for i in range(2, len(joint.axes) + 1)]
+
+
+def _add_joint_coordinates(joint, coords, frames):
+    """Append the joint's coordinates (a chain for universal and spherical joints)."""
+    parent = frames[joint.parent]
+    kind = joint.kind if joint.kind in ("prismatic", "modal") else "revolute"
+    for i, (name, axis) in enumerate(zip(coordinate_names_of(joint), joint.axes)):
+        spring = (joint.stiffness, joint.damping) if i == 0 else (0.0, 0.0)
+        coords.append(Coordinate(name, kind, "joint", parent, axis, joint.point, *spring,
+                                 locked=joint.locked))
+        parent = len(coords)
+    frames[joint.child] = parent
+
+
 def _attach_joints(model, coords, frames):
+    """Attach the joints breadth first from the root; a joint whose child is already attached
+    closes a loop and becomes a CutJoint. Returns the cut joints."""
     pending = list(model.joints)
+    cuts = []
     while pending:
         ready = [j for j in pending if j.parent in frames]
         if not ready:
             names = ", ".join(j.name for j in pending)
             raise ModelError(f"{model.source}: joints {names} do not connect to the root body "
-                             f"'{model.root}' (or form a loop)")
+                             f"'{model.root}' (a joint hangs its child from its parent: check "
+                             "that every parent is reached from the root)")
         for joint in ready:
             pending.remove(joint)
             if joint.child in frames:
-                raise ModelError(f"{model.source}: body '{joint.child}' has two parent joints")
-            if joint.kind == "fixed":
+                cuts.append(joint)
+            elif joint.kind == "fixed":
                 frames[joint.child] = frames[joint.parent]
-                continue
-            coords.append(Coordinate(joint.name, joint.kind, "joint", frames[joint.parent],
-                                     joint.axis, joint.point, joint.stiffness, joint.damping))
-            frames[joint.child] = len(coords)
-
-
+            else:
+                _add_joint_coordinates(joint, coords, frames)
+    return [CutJoint(j, frames[j.parent], frames[j.child]) for j in cuts]
 def compile_tree(model):
     """Compile a VehicleModel into coordinates and masses (base, joints, wheel spins)."""
     coords = _base_coordinates()
     frames = {model.root: len(coords)}
-    _attach_joints(model, coords, frames)
+    cuts = _attach_joints(model, coords, frames)
     missing = [b.name for b in model.bodies if b.name not in frames]
     if missing:
         raise ModelError(f"{model.source}: bodies {', '.join(missing)} are not attached")
@@ -131,7 +163,7 @@ def compile_tree(model):
         wheel_frames.append(len(coords))
     masses = [MassItem(b.name, frames[b.name], b.mass, b.com, b.inertia) for b in model.bodies]
     masses += [_wheel_mass(w, f) for w, f in zip(model.wheels, wheel_frames)]
-    return Tree(tuple(coords), tuple(masses), dict(frames), tuple(wheel_frames))
+    return Tree(tuple(coords), tuple(masses), dict(frames), tuple(wheel_frames), tuple(cuts))
 
 
 def _child_state(coord, k, parent, q, u, heading):

@@ -15,9 +15,32 @@ import scipy.linalg
 from motoflex_ros.errors import ModelError
 from motoflex_ros.vehicle.dynamics import build_system, positions, residual
 
-__all__ = ["LinearVehicle", "SecondOrderMatrices", "linearize_at", "linearize"]
+__all__ = ["LinearVehicle", "SecondOrderMatrices", "linearize_at", "linearize",
+           "is_singular", "SINGULAR_RTOL"]
 
 _STEP = 1e-30
+SINGULAR_RTOL = 1e-10
+"""E is taken as singular when its smallest singular value is below this fraction of its
+largest. Massless bodies make E singular; inside a closed loop their rows come out as rounding
+noise rather than exact zeros, where an ordinary solve would not fail but return garbage."""
+
+
+def is_singular(E, rtol=SINGULAR_RTOL):
+    """True when the matrix E (n, n) (or the first of a stack) is numerically singular.
+
+    Rows and then columns are scaled to unit largest entry first (the states mix units: m,
+    rad, N; a flexible motorcycle's E spans ten decades unscaled), then the smallest singular
+    value is compared with the largest.
+    """
+    first = np.asarray(E, float)
+    first = first[0] if first.ndim == 3 else first
+    rows = np.max(np.abs(first), axis=1)
+    if np.any(rows == 0.0):
+        return True
+    scaled = first / rows[:, None]
+    scaled = scaled / np.max(np.abs(scaled), axis=0)[None, :]
+    s = np.linalg.svd(scaled, compute_uv=False)
+    return bool(s[-1] <= rtol * s[0])
 _FIT_SPEEDS = (1.0, 2.0, 3.0)
 _CHECK_SPEED = 7.5
 
@@ -41,13 +64,15 @@ def linearize_at(system, v):
     zero = np.zeros(n, complex)
     # the coordinates depend on the position states only: solve them once for every column
     # that perturbs x' or a speed or tyre state
-    q_ref = positions(system, zero)
+    # (one Newton step is exact for a perturbation of the reference: dynamics.positions)
+    q_ref = positions(system, zero, newton_steps=1)
     n_pos = len(system.indep_pos)
     for k in range(n):
         step = np.zeros(n, complex)
         step[k] = 1j * _STEP
         E[:, k] = residual(system, step, zero, v, q=q_ref).imag / _STEP
-        A[:, k] = -residual(system, zero, step, v, q=None if k < n_pos else q_ref).imag / _STEP
+        q = positions(system, step, newton_steps=1) if k < n_pos else q_ref
+        A[:, k] = -residual(system, zero, step, v, q=q).imag / _STEP
     return E, A
 
 
@@ -85,11 +110,10 @@ class LinearVehicle:
         """Stacked A_s(v) = E(v)^-1 A(v) [1/s]; ModelError when E is singular (massless
         bodies: use ``eigenvalues``, which solves the generalized problem)."""
         E, A = self.pencil(speeds)
-        try:
-            return np.linalg.solve(E, A)
-        except np.linalg.LinAlgError:
+        if is_singular(E):
             raise ModelError(f"{self.system.model.source}: singular E(v) (massless bodies); "
-                             "use the descriptor form") from None
+                             "use the descriptor form")
+        return np.linalg.solve(E, A)
 
     def eigenvalues(self, speed):
         """Finite eigenvalues [1/s] of E x' = A x at one speed (infinite ones dropped)."""

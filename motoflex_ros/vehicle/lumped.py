@@ -42,28 +42,29 @@ import numpy as np
 
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.errors import ConfigError, ModelError
-from motoflex_ros.identify.axis import axis_stiffness
-from motoflex_ros.identify.results import results_source
-from motoflex_ros.identify.stiffness import GAMMA_S
+from motoflex_ros.vehicle.dynamics import build_system, dependent_speeds
+from motoflex_ros.vehicle.kinematics import frame_states
 from motoflex_ros.vehicle.model import Body, Joint, composite_inertia
 
-__all__ = ["VARIANTS", "COMPONENTS", "GAMMA", "FlexJoint", "ComponentSite", "site_of",
-           "axis_in_vehicle", "state_of_the_art_axis", "state_of_the_art_stiffness", "SOTA_LOAD",
-           "check_site", "check_split_identifiable", "reattach", "flex_joints", "lumped_vehicle",
-           "mass_properties", "MOUNTS"]
+__all__ = ["VARIANTS", "COMPONENTS", "FlexJoint", "ComponentSite", "site_of", "axis_in_vehicle",
+           "state_of_the_art_axis", "check_site", "reattach", "lumped_vehicle", "mass_properties",
+           "MOUNTS", "SUPERELEMENT_PARENT", "NEW_BODY"]
 
 VARIANTS = ("rigid", "state_of_the_art", "static", "torsion", "bending", "decomposed")
 COMPONENTS = MOTORCYCLE_COMPONENTS
-GAMMA = GAMMA_S
-"""Proportionality constant of the static models' damping c = gamma k [s] (Sect. 5.2.4)."""
 
 MOUNTS = {
     # component: (donor body, what hangs from the new body: ('joint', role) or ('wheel', name))
     "frame": ("frame", ("joint", "steer")),
     "front_assembly": ("lower_fork", ("wheel", "front")),
-    "swingarm": ("swingarm", ("wheel", "rear")),
+    "swingarm": ("wheel_carrier", ("wheel", "rear")),
 }
 NEW_BODY = {"frame": "frame_head", "front_assembly": "front_flex", "swingarm": "rear_flex"}
+SUPERELEMENT_PARENT = {"frame": "frame", "front_assembly": "lower_fork", "swingarm": "swingarm"}
+"""Body each component's superelement is welded to in the flexible motorcycle: the one that
+holds its bench clamps (frame: the rear frame with the engine mounts; swingarm: the main arm,
+locked on its pivot; front assembly: the steered lower fork, which is NOT where the bench
+clamps it: docs/boundary-conditions.md)."""
 TOLERANCE = 1e-3
 """How far [m] a component's interface point may lie from the vehicle's joint point."""
 
@@ -113,31 +114,6 @@ def axis_in_vehicle(site, l, beta):
     return site.origin + l * e0, direction
 
 
-SOTA_LOAD = {"frame": "moment", "front_assembly": "lateral_force", "swingarm": "moment"}
-"""How the literature measures each component's stiffness (Sect. 5.2.1-5.2.3): a static moment
-about the joint axis (frame: at the steering head; swingarm: parallel to x at the wheel axis) or
-a static lateral force at the wheel axis (front assembly, after [11])."""
-
-
-def state_of_the_art_stiffness(reduced, axis, point=None, load="moment"):
-    """Stiffness [N m/rad] of the literature's joint from a static test on the clamped model.
-
-    ``load="moment"``: a moment about ``axis`` at the loaded end divided by the end's rotation
-    about it, k = 1 / (a^T theta(a)), theta(a) [rad] under a unit moment [N m].
-    ``load="lateral_force"``: eq. (8) with a lateral force F_y at q0 and the arm b [m] of q0
-    about the axis through ``point`` (component frame), k = F b / asin(y_q / b).
-    """
-    a = np.asarray(axis, float) / np.linalg.norm(axis)
-    if load == "moment":
-        motion = reduced.static_end_motion(np.concatenate([np.zeros(3), a]))
-        return float(1.0 / (a @ motion[3:]))
-    force = 1.0
-    motion = reduced.static_end_motion([0.0, force, 0.0, 0.0, 0.0, 0.0])
-    r = reduced.q0 - np.asarray(point, float)
-    arm = float(np.linalg.norm(r - (r @ a) * a))
-    return float(axis_stiffness(force, motion[1], arm))
-
-
 def _perpendicular_in_plane(direction):
     """Unit vector in the x-z plane perpendicular to ``direction`` (e.g. to the fork axis)."""
     d = np.asarray(direction, float)
@@ -159,86 +135,6 @@ def state_of_the_art_axis(component, site, steer_axis):
                              "(the spherical joint of the longitudinal arm)")
         return site.origin + site.points["lower_joint_fork"], _perpendicular_in_plane(steer_axis)
     return site.origin + site.q0, np.array([1.0, 0.0, 0.0])
-
-
-def check_split_identifiable(identified, component):
-    """Raise ModelError naming the component if its eq. (12) split k_t, k_b is not identifiable.
-
-    The identification marks it (``split_identifiable`` False, ``split_problem`` the reason,
-    k_t and k_b null/NaN); a result file without the mark is judged by its values: a missing,
-    non-finite or non-positive k_t or k_b cannot be a spring of the decomposed variant.
-    """
-    result = identified.get(component) if isinstance(identified, dict) else None
-    if not isinstance(result, dict):
-        return
-    problem = result.get("split_problem")
-    values = {key: result.get(key) for key in ("k_t", "k_b") if key in result}
-    bad = [f"{component}.{key} = {_show(value)}" for key, value in values.items()
-           if isinstance(value, bool) or not isinstance(value, (int, float))
-           or not np.isfinite(value) or value <= 0]
-    if result.get("split_identifiable") is False or bad:
-        raise ModelError(f"{results_source(identified)}: component '{component}': its "
-                         f"torsion/bending split (eq. 12) is not identifiable "
-                         f"({problem or ', '.join(bad)}); the decomposed variant needs "
-                         f"positive k_t and k_b, use the static, torsion or bending variant")
-
-
-def _show(value):
-    return f"{value:.4g}" if isinstance(value, float) else repr(value)
-
-
-def _need(identified, component, *keys):
-    value = identified
-    path = ""
-    for key in (component, *keys):
-        path = f"{path}.{key}" if path else key
-        if not isinstance(value, dict) or key not in value:
-            raise ConfigError(results_source(identified), path, "missing (run motoflex identify "
-                                                              "or give a complete result file)")
-        value = value[key]
-    name = keys[-1]
-    positive = name.startswith("k")           # stiffness [N m/rad]
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
-        raise ConfigError(results_source(identified), path, f"expected a finite number, got "
-                                                          f"{value!r}")
-    if (positive and value <= 0) or (name in ("J", "c") and value < 0):
-        allowed = "> 0" if positive else ">= 0"
-        raise ConfigError(results_source(identified), path,
-                          f"value {value:g} is out of the allowed range ({allowed})")
-    return float(value)
-
-
-def flex_joints(variant, component, identified, site, sota=None):
-    """The lumped joints (tuple of FlexJoint) of one component in one variant.
-
-    ``identified``: the identification result of all components (the JSON of ``motoflex
-    identify``); ``sota``: (point, axis, k) of the state-of-the-art joint, needed only for that
-    variant.
-    """
-    name = f"{component}_{variant}"
-    if variant == "rigid":
-        return ()
-    if variant == "state_of_the_art":
-        point, axis, k = sota
-        return (FlexJoint(name, np.asarray(point, float), np.asarray(axis, float), k, GAMMA * k),)
-    if variant == "static":
-        get = lambda *keys: _need(identified, component, "static", *keys)  # noqa: E731
-        point, axis = axis_in_vehicle(site, get("l"), get("beta"))
-        return (FlexJoint(name, point, axis, get("k"), GAMMA * get("k")),)
-    if variant in ("torsion", "bending"):
-        get = lambda *keys: _need(identified, component, variant, *keys)  # noqa: E731
-        point, axis = axis_in_vehicle(site, get("l"), get("beta"))
-        return (FlexJoint(name, point, axis, get("k"), get("c"), get("J")),)
-    if variant == "decomposed":
-        check_split_identifiable(identified, component)
-        joints = []
-        for test, key in (("torsion", "k_t"), ("bending", "k_b")):
-            point, axis = axis_in_vehicle(site, _need(identified, component, test, "l"),
-                                          _need(identified, component, test, "beta"))
-            k = _need(identified, component, key)
-            joints.append(FlexJoint(f"{component}_{test}", point, axis, k, GAMMA * k))
-        return tuple(joints)
-    raise ConfigError("--flex", "variant", f"'{variant}' is not one of: {', '.join(VARIANTS)}")
 
 
 def mass_properties(model):
@@ -300,14 +196,21 @@ def _body(bodies, name, model):
 
 
 def _rigid_cluster(model, name):
-    """Names of the bodies welded to body ``name`` by fixed joints (they share one frame)."""
-    cluster, grew = {name}, True
-    while grew:
-        grew = False
-        for j in model.joints:
-            if j.kind == "fixed" and (j.parent in cluster) != (j.child in cluster):
-                cluster |= {j.parent, j.child}
-                grew = True
+    """Names of the bodies that move as one with body ``name``: welded to it by fixed joints,
+    or held to it by a frozen mechanism (locked coordinates closing a loop, e.g. the wheel
+    carrier of the locked Paralever). Found from the kinematics: a body belongs to the cluster
+    when its frame has the twist of ``name``'s frame for every independent speed."""
+    system = build_system(model)
+    tree = system.tree
+    zero = np.zeros(len(tree.coordinates))
+    cluster = {b.name for b in model.bodies}
+    for k in system.indep_speed:
+        known = zero.copy()
+        known[k] = 1.0
+        frames = frame_states(tree, zero, dependent_speeds(system, zero, known))
+        twists = {b: np.concatenate([frames[tree.body_frames[b]].w,
+                                     frames[tree.body_frames[b]].v0]) for b in cluster | {name}}
+        cluster = {b for b in cluster if np.allclose(twists[b], twists[name], atol=1e-9)}
     return cluster
 
 

@@ -14,7 +14,8 @@ import numpy as np
 
 from motoflex_ros.config import load_yaml, validate
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.vehicle.schema import REFERENCE_SPEED, VEHICLE_SCHEMA
+from motoflex_ros.inertia import check_inertia, composite_inertia, inertia_matrix, parallel_axis
+from motoflex_ros.vehicle.schema import LOOP_CLOSURE_TOLERANCE, REFERENCE_SPEED, VEHICLE_SCHEMA
 from motoflex_ros.vehicle.tyre import tyre_from_config
 
 __all__ = ["Body", "Joint", "Wheel", "VehicleModel", "load_vehicle", "vehicle_from_dict",
@@ -42,8 +43,11 @@ class Body:
 class Joint:
     """Joint between parent and child body; axis is a unit vector, point [m] on the axis.
 
-    kind 'revolute' or 'prismatic' adds one coordinate, 'fixed' none. stiffness [N m/rad]
-    (or [N/m]) and damping [N m s/rad] act on the joint coordinate.
+    kind 'revolute' or 'prismatic' adds one coordinate, 'universal' two (rotations about axis,
+    then axis2), 'spherical' three (about axis, axis2, axis x axis2), 'fixed' none; a joint
+    that closes a loop adds constraints instead (:mod:`motoflex_ros.vehicle.loops`).
+    stiffness [N m/rad] (or [N/m]) and damping [N m s/rad] act on the (first) joint coordinate.
+    locked: the coordinate is frozen at 0 (one constraint), e.g. suspension travel.
     """
 
     name: str
@@ -54,6 +58,20 @@ class Joint:
     point: np.ndarray
     stiffness: float = 0.0
     damping: float = 0.0
+    axis2: np.ndarray = None
+    locked: bool = False
+
+    @property
+    def axes(self):
+        """Unit rotation axes of the joint's coordinates, in order (revolute: axis; universal:
+        axis, axis2; spherical: axis, axis2, axis x axis2; prismatic: the sliding axis)."""
+        if self.kind in ("revolute", "prismatic", "modal"):
+            return (self.axis,)
+        if self.kind == "universal":
+            return (self.axis, self.axis2)
+        if self.kind == "spherical":
+            return (self.axis, self.axis2, np.cross(self.axis, self.axis2))
+        return ()
 
 
 @dataclass(frozen=True)
@@ -88,7 +106,9 @@ class Wheel:
 @dataclass(frozen=True)
 class VehicleModel:
     """A complete vehicle description (see module docstring); roles map 'steer' etc. to joints;
-    reference_speed [m/s] is where weave, wobble and capsize are named before tracking.
+    reference_speed [m/s] is where weave, wobble and capsize are named before tracking;
+    base 'floating' (a vehicle on its wheels) or 'fixed' (the root body is the ground: a
+    mechanism on a stand, no wheels).
 
     elements: extra force elements (e.g. superelement stiffness/damping acting on joint or
     modal coordinates), objects with ``generalized_residual(system, frames, q, u, udot)``
@@ -108,6 +128,7 @@ class VehicleModel:
     reference_speed: float = REFERENCE_SPEED
     flex: dict = field(default_factory=dict)
     elements: tuple = ()
+    base: str = "floating"
 
     def body(self, name):
         """The body called ``name``."""
@@ -116,60 +137,6 @@ class VehicleModel:
     def total_mass(self):
         """Sum of body and wheel masses [kg]."""
         return sum(b.mass for b in self.bodies) + sum(w.mass for w in self.wheels)
-
-
-def inertia_matrix(spec):
-    """3x3 inertia tensor [kg m^2] from a mapping xx, yy, zz, xy, xz, yz (tensor entries)."""
-    xy, xz, yz = spec.get("xy", 0.0), spec.get("xz", 0.0), spec.get("yz", 0.0)
-    return np.array([[spec["xx"], xy, xz], [xy, spec["yy"], yz], [xz, yz, spec["zz"]]], float)
-
-
-def check_inertia(tensor, source, key):
-    """Raise ConfigError unless the tensor is positive definite with principal moments that
-    satisfy the triangle inequality (I1 + I2 >= I3 for every ordering)."""
-    moments = np.linalg.eigvalsh(tensor)
-    if moments[0] <= 0.0:
-        raise ConfigError(source, key, "inertia tensor is not positive definite (principal "
-                                       f"moments {np.round(moments, 6).tolist()} kg m^2)")
-    if moments[0] + moments[1] < moments[2] * (1.0 - 1e-9):
-        raise ConfigError(source, key, "inertia tensor violates the triangle inequality "
-                                       f"(principal moments {np.round(moments, 6).tolist()}: "
-                                       "I1 + I2 must be >= I3)")
-
-
-def parallel_axis(mass, offset):
-    """Parallel-axis (Steiner) term m (|d|^2 1 - d d^T) [kg m^2].
-
-    What a point mass ``mass`` [kg] at ``offset`` d [m] from a reference point adds to an
-    inertia tensor about that point.
-    """
-    d = np.asarray(offset)
-    return mass * ((d @ d) * np.eye(3) - np.outer(d, d))
-
-
-def composite_inertia(items):
-    """Mass [kg], centre of mass [m] and inertia tensor about it [kg m^2] of rigid items.
-
-    Parameters
-    ----------
-    items : iterable of (mass, com, inertia)
-        Each item's mass [kg], centre of mass [m] and inertia tensor about its own centre of
-        mass [kg m^2], all in one frame.
-
-    Returns
-    -------
-    mass, com, inertia
-        Total mass, common centre of mass c = sum m_i c_i / m, and
-        I = sum (I_i + :func:`parallel_axis` (m_i, c_i - c)).
-
-    """
-    items = list(items)
-    mass = sum(m for m, _, _ in items)
-    com = sum(m * np.asarray(c) for m, c, _ in items) / mass
-    inertia = np.zeros((3, 3))
-    for m, c, own in items:
-        inertia += own + parallel_axis(m, np.asarray(c) - com)
-    return mass, com, inertia
 
 
 def combine_parts(parts, source, key):
@@ -228,15 +195,49 @@ def _unit_axis(vector, source, key):
     return vector / length
 
 
+def _second_axis(axis, spec, source, key):
+    """Unit second axis of a universal or spherical joint, made normal to ``axis``: the given
+    axis2 (Gram-Schmidt), else the normal to axis nearest to the lateral (then vertical) one."""
+    given = spec["axis2"]
+    trial = np.asarray(given, float) if given is not None else np.array([0.0, 1.0, 0.0])
+    if given is None and abs(axis @ trial) > 0.9:
+        trial = np.array([0.0, 0.0, 1.0])
+    normal = trial - (trial @ axis) * axis
+    if np.linalg.norm(normal) < 1e-6 * max(np.linalg.norm(trial), 1e-300):
+        raise ConfigError(source, f"{key}.axis2", "parallel to axis (or zero); give a "
+                                                 "direction not parallel to axis")
+    return normal / np.linalg.norm(normal)
+
+
 def _joint(name, spec, bodies, source):
     key = f"joints.{name}"
     for end in ("parent", "child"):
         if spec[end] not in bodies:
             raise ConfigError(source, f"{key}.{end}", f"unknown body '{spec[end]}' "
                                                       f"(bodies: {', '.join(bodies)})")
-    return Joint(name, spec["type"], spec["parent"], spec["child"],
-                 _unit_axis(spec["axis"], source, f"{key}.axis"),
-                 np.asarray(spec["point"], float), spec["stiffness"], spec["damping"])
+    if spec["parent"] == spec["child"]:
+        raise ConfigError(source, f"{key}.child", f"the joint joins body '{spec['child']}' to "
+                                                  "itself; give two different bodies")
+    kind = spec["type"]
+    axis = _unit_axis(spec["axis"], source, f"{key}.axis")
+    axis2 = _second_axis(axis, spec, source, key) if kind in ("universal", "spherical") else None
+    if spec["axis2"] is not None and axis2 is None:
+        raise ConfigError(source, f"{key}.axis2", f"only a universal or spherical joint has a "
+                                                 f"second axis (this one is {kind})")
+    if spec["locked"] and kind not in ("revolute", "prismatic"):
+        raise ConfigError(source, f"{key}.locked", f"only a revolute or prismatic coordinate can "
+                                                   f"be locked (this joint is {kind}; a locked "
+                                                   "joint of another kind is a fixed joint)")
+    point = np.asarray(spec["point"], float)
+    if spec["child_point"] is not None:
+        gap = float(np.linalg.norm(np.asarray(spec["child_point"], float) - point))
+        if gap > LOOP_CLOSURE_TOLERANCE:
+            raise ConfigError(source, f"{key}.child_point",
+                              f"the joint cannot close: its child's point is {gap * 1e3:.3g} mm "
+                              f"from its parent's point {np.round(point, 6).tolist()} m "
+                              f"(allowed: within {LOOP_CLOSURE_TOLERANCE * 1e3:g} mm)")
+    return Joint(name, kind, spec["parent"], spec["child"], axis, point, spec["stiffness"],
+                 spec["damping"], axis2, bool(spec["locked"]))
 
 
 MIN_WHEELBASE_M = 0.1
@@ -269,6 +270,11 @@ def _static_loads(bodies, wheel_specs, gravity, source):
 
 def _wheels(spec, bodies, source, gravity):
     specs = spec["wheels"]
+    if spec["base"] == "fixed":
+        if specs:
+            raise ConfigError(source, "wheels", "a fixed-base mechanism (base: fixed) has no "
+                                                f"wheels; got {len(specs)}")
+        return ()
     if len(specs) != 2:
         raise ConfigError(source, "wheels", f"expected 2 wheels, got {len(specs)}")
     loads = _static_loads(bodies, specs, gravity, source)
@@ -302,7 +308,7 @@ def vehicle_from_dict(data, source="<dict>"):
     wheels = _wheels(spec, bodies, source, spec["gravity"])
     return VehicleModel(spec["name"], str(source), spec["gravity"], spec["root"],
                         tuple(bodies.values()), joints, wheels, dict(spec["roles"]),
-                        spec["reference_speed"], dict(spec["flex"]))
+                        spec["reference_speed"], dict(spec["flex"]), base=spec["base"])
 
 
 def load_vehicle(path):

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
+from motoflex_ros.vehicle.linearize import is_singular
+
 __all__ = ["ModalSweep", "modal_sweep", "mac", "eigen_decomposition", "WEAVE_BAND_HZ",
            "WOBBLE_BAND_HZ", "MODE_NAMES"]
 
@@ -64,15 +66,16 @@ def eigen_decomposition(lin, speeds):
     """Eigenvalues (s, n) and right eigenvectors (s, n, n) over speed; infinite eigenvalues of
     a singular E(v) are replaced by nan."""
     E, A = lin.pencil(speeds)
-    try:
+    if not is_singular(E):
         return np.linalg.eig(np.linalg.solve(E, A))
-    except np.linalg.LinAlgError:
-        values, vectors = [], []
-        for e, a in zip(E, A):
-            alpha, beta, vec = _generalized(a, e)
-            values.append(np.where(np.abs(beta) > 1e-12 * np.abs(alpha), alpha / beta, np.nan))
-            vectors.append(vec)
-        return np.array(values), np.array(vectors)
+    values, vectors = [], []
+    for e, a in zip(E, A):
+        alpha, beta, vec = _generalized(a, e)
+        finite = np.abs(beta) > 1e-12 * np.abs(alpha)
+        values.append(np.divide(alpha, beta, out=np.full(alpha.shape, np.nan + 0j),
+                                where=finite))
+        vectors.append(vec)
+    return np.array(values), np.array(vectors)
 
 
 def _generalized(a, e):

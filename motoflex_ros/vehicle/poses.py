@@ -21,12 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
-from motoflex_ros.vehicle.dynamics import (
-    _constraint_rows,
-    _contacts,
-    _solve_dependent,
-    positions,
-)
+from motoflex_ros.vehicle.dynamics import dependent_speeds, positions
 from motoflex_ros.vehicle.kinematics import frame_states
 
 __all__ = ["WorldPoses", "response_coordinates", "base_rates", "planar_path", "frame_poses",
@@ -74,8 +69,7 @@ def base_rates(system, states, speed, q_rows=None):
         known = np.zeros(len(system.tree.coordinates))
         known[0] = speed
         known[list(system.indep_speed)] = x[nq:nq + nu]
-        _, contacts = _contacts(system, q, known)
-        u = _solve_dependent(system, _constraint_rows(system, contacts)[0], known)
+        u = dependent_speeds(system, q, known)
         rates.append((u[index("y")], u[index("yaw")]))
     rates = np.array(rates).reshape(-1, 2)
     return rates[:, 0], rates[:, 1]

@@ -7,8 +7,12 @@ N m/rad, damping in N m s/rad, gravity in m/s^2.
 from motoflex_ros.config import Field, number, positive
 from motoflex_ros.units import kmh_to_ms
 
-__all__ = ["VEHICLE_SCHEMA", "TYRE_SCHEMAS", "REFERENCE_SPEED", "MF_COEFFICIENTS",
-           "SPEED_MAX_MPS"]
+__all__ = ["VEHICLE_SCHEMA", "TYRE_SCHEMAS", "REFERENCE_SPEED", "MF_COEFFICIENTS", "JOINT_TYPES",
+           "LOOP_CLOSURE_TOLERANCE", "SPEED_MAX_MPS"]
+
+LOOP_CLOSURE_TOLERANCE = 1e-3
+"""Largest distance [m] between a joint's point and its child_point; further apart the loop
+cannot close."""
 
 # Physical ranges of every number (SI): any two-wheeler with its rider and luggage fits in
 # them; beyond them the linearization overflows or a wrong value is blamed on another key (a
@@ -49,12 +53,29 @@ _BODY = Field("mapping", fields={
     "source": Field("str", required=False, default=""),
 })
 
+JOINT_TYPES = ("revolute", "prismatic", "fixed", "universal", "spherical")
+"""Joint kinds. revolute / prismatic: one coordinate about / along ``axis``; universal: two
+rotations, about ``axis`` then ``axis2``; spherical: three rotations, about ``axis``, ``axis2``
+and axis x axis2 (so a spherical joint's first coordinate can be a named role, e.g. the
+steering angle about the axis through two spherical joints); fixed: none. A joint whose child
+is already attached closes a kinematic loop (a cut joint): it adds constraint equations
+instead of coordinates."""
+
 _JOINT = Field("mapping", fields={
-    "type": Field("str", choices=("revolute", "prismatic", "fixed")),
+    "type": Field("str", choices=JOINT_TYPES),
     "parent": Field("str"),
     "child": Field("str"),
     "axis": _AXIS,
+    "axis2": Field("vec3", -1e3, 1e3, required=False, default=None,
+                   help="second axis of a universal or spherical joint (default: a unit vector "
+                        "normal to axis)"),
     "point": Field("vec3", -SIZE_M, SIZE_M, required=False, default=[0.0, 0.0, 0.0]),
+    "child_point": Field("vec3", -SIZE_M, SIZE_M, required=False, default=None,
+                         help="the child's attachment point [m] when it is given apart from "
+                              "point (e.g. from the child's own drawing); within 1 mm of point"),
+    "locked": Field("bool", required=False, default=False,
+                    help="frozen coordinate (e.g. suspension travel at the riding point): the "
+                         "joint keeps its kinematics in the loop, its coordinate stays 0"),
     "stiffness": number(0.0, JOINT_STIFFNESS_MAX, required=False, default=0.0,
                         help="[N m/rad]"),
     "damping": number(0.0, JOINT_DAMPING_MAX, required=False, default=0.0,
@@ -84,12 +105,15 @@ VEHICLE_SCHEMA = Field("mapping", fields={
     "description": Field("str", required=False, default=""),
     "gravity": positive(100.0, required=False, default=9.81, help="[m/s^2]"),
     "root": Field("str", help="name of the floating-base body"),
+    "base": Field("str", required=False, default="floating", choices=("floating", "fixed"),
+                  help="floating: a vehicle on its wheels; fixed: the root body is the ground "
+                       "(a mechanism on a test stand, no wheels)"),
     "reference_speed": positive(SPEED_MAX_MPS, required=False, default=REFERENCE_SPEED,
                                 help="speed [m/s] at which modes are named before tracking"),
     "roles": Field("mapping", required=False, default={}, extra=True, item=Field("str")),
     "bodies": Field("mapping", extra=True, item=_BODY, min_items=1),
     "joints": Field("mapping", required=False, default={}, extra=True, item=_JOINT),
-    "wheels": Field("mapping", extra=True, item=_WHEEL),
+    "wheels": Field("mapping", required=False, default={}, extra=True, item=_WHEEL),
     "flex": Field("mapping", required=False, default={}, extra=True,
                   help="reserved for lumped/flexible variants (added by the accuracy issue)"),
 })

@@ -1,0 +1,168 @@
+"""Motorcycle variants from identification results: the paper's lumped models (Sect. 5.2).
+
+``build_variant(vehicle, variant, names, identified, components)`` gives the VehicleModel of one
+of the paper's variants with the flexibility of the components ``names`` (a subset of frame,
+front_assembly, swingarm): ``rigid``, ``flexible`` (Craig-Bampton superelements,
+:mod:`motoflex_ros.vehicle.superelement`), the lumped ``state_of_the_art``, ``static``,
+``torsion``, ``bending`` and ``decomposed`` models (:mod:`motoflex_ros.vehicle.lumped`).
+``identified`` is the identification of the bench campaign (the JSON of ``motoflex identify``);
+``components`` maps a component name to its structures Component (placement, loaded end, the
+clamped finite-element model for the state-of-the-art static test). This is where
+identification, structures and vehicle meet; the vehicle itself only takes lumped joints.
+"""
+import numpy as np
+
+from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.identify.axis import axis_stiffness
+from motoflex_ros.identify.results import results_source
+from motoflex_ros.identify.stiffness import GAMMA_S
+from motoflex_ros.vehicle import lumped
+from motoflex_ros.vehicle.lumped import VARIANTS, FlexJoint, axis_in_vehicle
+from motoflex_ros.vehicle.superelement import superelement_of
+from motoflex_ros.vehicle.variants import FLEX_CHOICES, flexible_vehicle
+
+__all__ = ["build_variant", "flex_joints", "check_split_identifiable",
+           "state_of_the_art_stiffness", "SOTA_LOAD", "GAMMA"]
+
+GAMMA = GAMMA_S
+"""Proportionality constant of the static models' damping c = gamma k [s] (Sect. 5.2.4)."""
+
+
+SOTA_LOAD = {"frame": "moment", "front_assembly": "lateral_force", "swingarm": "moment"}
+"""How the literature measures each component's stiffness (Sect. 5.2.1-5.2.3): a static moment
+about the joint axis (frame: at the steering head; swingarm: parallel to x at the wheel axis) or
+a static lateral force at the wheel axis (front assembly, after [11])."""
+
+
+def state_of_the_art_stiffness(reduced, axis, point=None, load="moment"):
+    """Stiffness [N m/rad] of the literature's joint from a static test on the clamped model.
+
+    ``load="moment"``: a moment about ``axis`` at the loaded end divided by the end's rotation
+    about it, k = 1 / (a^T theta(a)), theta(a) [rad] under a unit moment [N m].
+    ``load="lateral_force"``: eq. (8) with a lateral force F_y at q0 and the arm b [m] of q0
+    about the axis through ``point`` (component frame), k = F b / asin(y_q / b).
+    """
+    a = np.asarray(axis, float) / np.linalg.norm(axis)
+    if load == "moment":
+        motion = reduced.static_end_motion(np.concatenate([np.zeros(3), a]))
+        return float(1.0 / (a @ motion[3:]))
+    force = 1.0
+    motion = reduced.static_end_motion([0.0, force, 0.0, 0.0, 0.0, 0.0])
+    r = reduced.q0 - np.asarray(point, float)
+    arm = float(np.linalg.norm(r - (r @ a) * a))
+    return float(axis_stiffness(force, motion[1], arm))
+
+
+def check_split_identifiable(identified, component):
+    """Raise ModelError naming the component if its eq. (12) split k_t, k_b is not identifiable.
+
+    The identification marks it (``split_identifiable`` False, ``split_problem`` the reason,
+    k_t and k_b null/NaN); a result file without the mark is judged by its values: a missing,
+    non-finite or non-positive k_t or k_b cannot be a spring of the decomposed variant.
+    """
+    result = identified.get(component) if isinstance(identified, dict) else None
+    if not isinstance(result, dict):
+        return
+    problem = result.get("split_problem")
+    values = {key: result.get(key) for key in ("k_t", "k_b") if key in result}
+    bad = [f"{component}.{key} = {_show(value)}" for key, value in values.items()
+           if isinstance(value, bool) or not isinstance(value, (int, float))
+           or not np.isfinite(value) or value <= 0]
+    if result.get("split_identifiable") is False or bad:
+        raise ModelError(f"{results_source(identified)}: component '{component}': its "
+                         f"torsion/bending split (eq. 12) is not identifiable "
+                         f"({problem or ', '.join(bad)}); the decomposed variant needs "
+                         f"positive k_t and k_b, use the static, torsion or bending variant")
+
+
+def _show(value):
+    return f"{value:.4g}" if isinstance(value, float) else repr(value)
+
+
+def _need(identified, component, *keys):
+    value = identified
+    path = ""
+    for key in (component, *keys):
+        path = f"{path}.{key}" if path else key
+        if not isinstance(value, dict) or key not in value:
+            raise ConfigError(results_source(identified), path, "missing (run motoflex identify "
+                                                              "or give a complete result file)")
+        value = value[key]
+    name = keys[-1]
+    positive = name.startswith("k")           # stiffness [N m/rad]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
+        raise ConfigError(results_source(identified), path, f"expected a finite number, got "
+                                                          f"{value!r}")
+    if (positive and value <= 0) or (name in ("J", "c") and value < 0):
+        allowed = "> 0" if positive else ">= 0"
+        raise ConfigError(results_source(identified), path,
+                          f"value {value:g} is out of the allowed range ({allowed})")
+    return float(value)
+
+
+def flex_joints(variant, component, identified, site, sota=None):
+    """The lumped joints (tuple of FlexJoint) of one component in one variant.
+
+    ``identified``: the identification result of all components (the JSON of ``motoflex
+    identify``); ``sota``: (point, axis, k) of the state-of-the-art joint, needed only for that
+    variant.
+    """
+    name = f"{component}_{variant}"
+    if variant == "rigid":
+        return ()
+    if variant == "state_of_the_art":
+        point, axis, k = sota
+        return (FlexJoint(name, np.asarray(point, float), np.asarray(axis, float), k, GAMMA * k),)
+    if variant == "static":
+        get = lambda *keys: _need(identified, component, "static", *keys)  # noqa: E731
+        point, axis = axis_in_vehicle(site, get("l"), get("beta"))
+        return (FlexJoint(name, point, axis, get("k"), GAMMA * get("k")),)
+    if variant in ("torsion", "bending"):
+        get = lambda *keys: _need(identified, component, variant, *keys)  # noqa: E731
+        point, axis = axis_in_vehicle(site, get("l"), get("beta"))
+        return (FlexJoint(name, point, axis, get("k"), get("c"), get("J")),)
+    if variant == "decomposed":
+        check_split_identifiable(identified, component)
+        joints = []
+        for test, key in (("torsion", "k_t"), ("bending", "k_b")):
+            point, axis = axis_in_vehicle(site, _need(identified, component, test, "l"),
+                                          _need(identified, component, test, "beta"))
+            k = _need(identified, component, key)
+            joints.append(FlexJoint(f"{component}_{test}", point, axis, k, GAMMA * k))
+        return tuple(joints)
+    raise ConfigError("--flex", "variant", f"'{variant}' is not one of: {', '.join(VARIANTS)}")
+
+
+def _steer_axis(vehicle):
+    role = vehicle.roles.get("steer", "steer")
+    return next(j.axis for j in vehicle.joints if j.name == role)
+
+
+def build_variant(vehicle, variant, names, identified, components):
+    """VehicleModel of ``variant`` with the lumped flexibility of the components ``names``."""
+    if variant not in FLEX_CHOICES:
+        raise ConfigError("--flex", "variant", f"'{variant}' is not one of: "
+                                               f"{', '.join(FLEX_CHOICES)}")
+    if variant == "rigid":
+        return vehicle
+    if variant == "flexible":
+        for name in names:
+            lumped.check_site(vehicle, name, lumped.site_of(components[name]))
+        return flexible_vehicle(vehicle, {
+            name: superelement_of(components[name], lumped.SUPERELEMENT_PARENT[name])
+            for name in names})
+    joints = {}
+    for name in names:
+        site = lumped.site_of(components[name])
+        lumped.check_site(vehicle, name, site)
+        sota = None
+        if variant == "state_of_the_art":
+            point, axis = lumped.state_of_the_art_axis(name, site, _steer_axis(vehicle))
+            reduced = components[name].clamped_reduced()
+            k = state_of_the_art_stiffness(reduced, axis, point - site.origin,
+                                                  SOTA_LOAD[name])
+            sota = (point, axis, k)
+        joints[name] = flex_joints(variant, name, identified, site, sota)
+    return lumped.lumped_vehicle(vehicle, variant, joints)
+
+
