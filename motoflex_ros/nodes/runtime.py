@@ -293,9 +293,13 @@ def _init_ros(args):
 
 
 def _help_asked(args):
-    """Does the command line (not its ROS arguments) ask for -h / --help?"""
+    """Does the command line (not its ROS arguments) ask for -h / --help? (ROS arguments rcl
+    cannot parse, e.g. a missing --params-file, are reported by :func:`_init_ros`.)"""
     from rclpy.utilities import remove_ros_args
-    return not {"-h", "--help"}.isdisjoint(remove_ros_args(args)[1:])
+    try:
+        return not {"-h", "--help"}.isdisjoint(remove_ros_args(args)[1:])
+    except rclpy_implementation.RCLError:
+        return False
 
 
 def print_help(node_class):
