@@ -20,7 +20,7 @@ __all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "load_component_config", "structur
 # component on a bench, narrow enough that no value overflows the stiffness and mass matrices
 # (E = 1e300 made the interior stiffness singular) or underflows a section (an outer diameter
 # of 1e6 m with a 0.04 m tube gave a division by zero).
-MODULUS_PA = (1e5, 1e13)  # foam to diamond
+MODULUS_PA = (1e5, 1e15)  # foam to 5,000 x steel (a nearly rigid modelling material)
 DENSITY = (1.0, 1e5)  # [kg/m^3]
 COMPONENT_SIZE_M = 10.0  # coordinates and lengths of a component [m]
 SECTION_SIZE_M = (1e-4, 2.0)  # outer diameter, width, height [m]
