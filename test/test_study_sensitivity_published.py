@@ -21,8 +21,9 @@ thresholds below use that:
   quarter of the dominant factor's share (the paper: the front assembly has the strongest
   effect).
 
-Speed grid: 10 km/h (the CLI allows at most 10). Every run's weave and wobble real part rises
-monotonically with speed, so each index's s1 is the real part at the top of its range, a grid
+Speed grid: 10 km/h (the CLI allows at most 10). Every run's weave real part rises with speed,
+and so does its wobble real part from 50 km/h on (16 identified runs dip by less than 0.01 1/s
+between 40 and 50 km/h), so each index's s1 is the real part at the top of its range, a grid
 point of every grid; the coarse grid is checked against the CLI's default 1 km/h grid below.
 """
 from dataclasses import replace
@@ -47,8 +48,8 @@ INDICES = ("weave_low", "weave_high", "wobble_low", "wobble_high")
 BARELY, SLIGHTLY = 0.1, 0.5
 FRAME = {"k_tf": ("k_tf",), "k_bf": ("k_bf",), "frame": ("k_tf", "k_bf")}
 
-CAUSE = ("our wobble real part rises monotonically with speed in every run, so eq. 13's s1 over "
-         "40-100 km/h is Re(wobble) at 100 km/h. The paper itself says this stiffness acts "
+CAUSE = ("our wobble real part rises with speed from 50 km/h on in every run, so eq. 13's s1 "
+         "over 40-100 km/h is Re(wobble) at 100 km/h. The paper itself says this stiffness acts "
          "oppositely at low and high speed (Sect. 4.3 after [5-8], Sect. 5.3); one at a time, "
          "+10 % {factor} lowers Re(wobble) at 40 km/h (stabilises, the paper's direction) and "
          "raises it at 210 km/h; the +/-10 % curves cross at {cross}, just below 100 km/h, so "
@@ -57,22 +58,33 @@ CAUSE = ("our wobble real part rises monotonically with speed in every run, so e
          "Indexed by Re at 40 or 70 km/h, or by its mean over 40-100 km/h, rho is positive "
          "(test_bending_stiffness_stabilises_wobble_below_the_crossing).")
 XFAIL = {
+    # since issue 12's front assembly (compliance in the lower fork, the stanchion joint links
+    # and the stanchions; the vehicle's lower-fork inertia) the identified nominal's k_ba and
+    # k_tf curves cross at 100-101 km/h, just above the index's edge: there the paper's
+    # low-speed direction holds, by a hair (rho +0.004 and +0.0009), and the marks apply to
+    # the table2 nominal only (STUDY_MARKS)
     "k_ba": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-        "rho(wobble_low, k_ba) = -0.012 identified, -0.012 table2 (k_ta -1.000, -1.000); "
-        + CAUSE.format(factor="k_ba", cross="98 (identified), 99 (table2) km/h"))),
+        "rho(wobble_low, k_ba) = -0.019 table2 (k_ta -1.000); "
+        + CAUSE.format(factor="k_ba", cross="98 km/h (table2)"))),
     "k_bf": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-        "rho(wobble_low, k_bf) = -0.0019 identified, -0.0022 table2 (k_ta -1.000, -1.000); "
-        + CAUSE.format(factor="k_bf", cross="92 (identified), 93 (table2) km/h"))),
+        "rho(wobble_low, k_bf) = -0.0017 identified, -0.0021 table2 (k_ta -1.000, -1.000); "
+        + CAUSE.format(factor="k_bf", cross="95 (identified), 94 (table2) km/h"))),
     # with the paper's load path (longitudinal arm on the rear frame, issue 12) the frame's
-    # torsion joins them: its +/-10 % curves cross at 98-99 km/h too
+    # torsion joins them: its +/-10 % curves cross at 99 km/h (table2)
     "k_tf": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-        "rho(wobble_low, k_tf) = -0.0014 identified, -0.0028 table2; "
-        + CAUSE.format(factor="k_tf", cross="98 (identified), 99 (table2) km/h"))),
+        "rho(wobble_low, k_tf) = -0.0010 table2; "
+        + CAUSE.format(factor="k_tf", cross="99 km/h (table2)"))),
     "frame": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-        "rho(wobble_low, k_tf + k_bf) = -0.0024 identified, -0.0036 table2; "
-        + CAUSE.format(factor="k_tf and k_bf together", cross="96 (identified), 98 (table2) "
+        "rho(wobble_low, k_tf + k_bf) = -0.0005 identified, -0.0022 table2; "
+        + CAUSE.format(factor="k_tf and k_bf together", cross="99 (identified), 99 (table2) "
                        "km/h"))),
 }
+XFAIL_ON = {"k_ba": ("table2",), "k_bf": NOMINALS, "k_tf": ("table2",), "frame": NOMINALS}
+"""The nominals on which each expected failure holds."""
+
+
+def _marked(factor, nominal):
+    return (XFAIL[factor],) if nominal in XFAIL_ON.get(factor, ()) else ()
 
 
 ON_BOTH = pytest.mark.parametrize("study", NOMINALS, indirect=True)
@@ -133,8 +145,8 @@ def test_front_bending_stiffness_stabilises_high_speed_weave(study):
     assert rho(study, "weave_high", ["k_ba"]) > 0, table(study, "weave_high")
 
 
-@ON_BOTH
-@XFAIL["k_ba"]
+@pytest.mark.parametrize("study", [pytest.param(n, marks=_marked("k_ba", n)) for n in NOMINALS],
+                         indirect=True)
 def test_front_bending_stiffness_stabilises_low_speed_wobble(study):
     assert rho(study, "wobble_low", ["k_ba"]) > 0, table(study, "wobble_low")
 
@@ -150,9 +162,8 @@ def test_stiffer_frame_helps_high_speed_weave(study, frame):
     assert rho(study, "weave_high", FRAME[frame]) > 0, table(study, "weave_high")
 
 
-@ON_BOTH
-@pytest.mark.parametrize("frame", [pytest.param(f, marks=XFAIL[f]) if f in XFAIL else f
-                                   for f in FRAME])
+@pytest.mark.parametrize("study, frame", [pytest.param(n, f, marks=_marked(f, n))
+                                          for n in NOMINALS for f in FRAME], indirect=["study"])
 def test_stiffer_frame_helps_low_speed_wobble(study, frame):
     assert rho(study, "wobble_low", FRAME[frame]) > 0, table(study, "wobble_low")
 
@@ -199,33 +210,57 @@ def test_coarse_grid_coefficients_converge(study):
 
 @ON_BOTH
 def test_wobble_low_index_is_the_real_part_at_100_kmh(study):
-    """Every run's wobble real part rises with speed, so s1 (eq. 13) over 40-100 km/h is its
-    value at 100 km/h (the first half of the expected failures' cause)."""
+    """Every run's wobble real part rises with speed from 50 km/h on, so s1 (eq. 13) over
+    40-100 km/h is its value at 100 km/h (the first half of the expected failures' cause).
+    Between 40 and 50 km/h 16 of the identified nominal's 64 runs dip by less than 0.01 1/s
+    (issue 12's front assembly); table2's rise from 40 km/h."""
     _, result, run = study
     speeds = np.asarray(study[0].study.speeds)
     real = run.outputs["wobble"].real
-    assert np.all(np.diff(real, axis=1) > 0)
+    kmh = np.round(speeds * 3.6, 6)
+    assert np.all(np.diff(real[:, kmh >= 50.0], axis=1) > 0)
+    assert np.all(np.diff(real[:, kmh <= 50.0], axis=1) > -0.01)
     at_100 = real[:, np.argmin(abs(speeds - kmh_to_ms(100.0)))]
     np.testing.assert_allclose(result.indices["wobble_low"].s1, at_100, rtol=0, atol=1e-12)
 
 
-@ON_BOTH
-@pytest.mark.parametrize("factor", ["k_ba", "k_bf", "k_tf"])
-def test_bending_effect_on_wobble_reverses_below_100_kmh(study, factor):
-    """One factor at a time (+/-10 %, the others nominal, 1 km/h grid): the stiffer part has
-    the lower wobble real part at 40 km/h and the higher one at 100 and 210 km/h; the curves
-    cross once, between 80 and 100 km/h (the second half of the expected failures' cause)."""
+def _one_at_a_time(study, factor):
+    """Speeds [km/h] of the 1 km/h grid and Re(wobble) of +10 % minus -10 % ``factor``."""
     setup = study[0]
     speeds = study_speeds(CLI_STEP_KMH, STEP_KMH)
     values = {f: np.full(2, k) for f, k in setup.nominal.items()}
     values[factor] = setup.nominal[factor] * np.array([0.9, 1.1])
     wobble = replace(setup.study, speeds=tuple(speeds))(values)["wobble"].real
-    stiffer_minus_softer = wobble[1] - wobble[0]  # [1/s]
-    kmh = np.round(speeds * 3.6, 6)
+    return np.round(speeds * 3.6, 6), wobble[1] - wobble[0]  # [km/h], [1/s]
+
+
+CROSSING_CASES = [(n, f) for f in ("k_ba", "k_bf", "k_tf") for n in NOMINALS
+                  if n in XFAIL_ON[f]]
+
+
+@pytest.mark.parametrize("study, factor", CROSSING_CASES, indirect=["study"])
+def test_bending_effect_on_wobble_reverses_below_100_kmh(study, factor):
+    """One factor at a time (+/-10 %, the others nominal, 1 km/h grid): the stiffer part has
+    the lower wobble real part at 40 km/h and the higher one at 100 and 210 km/h; the curves
+    cross once, between 80 and 100 km/h (the second half of the expected failures' cause)."""
+    kmh, stiffer_minus_softer = _one_at_a_time(study, factor)
     at = {v: stiffer_minus_softer[kmh == v][0] for v in (40.0, 100.0, 210.0)}
     assert at[40.0] < 0 < at[100.0] and at[210.0] > 0, at
     crossings = kmh[:-1][np.diff(np.sign(stiffer_minus_softer)) != 0]
     assert len(crossings) == 1 and 80.0 <= crossings[0] < 100.0, crossings
+
+
+@pytest.mark.parametrize("study, factor", [("identified", "k_ba"), ("identified", "k_tf")],
+                         indirect=["study"])
+def test_crossing_just_above_100_kmh_where_the_paper_holds(study, factor):
+    """Where the paper's low-speed direction holds (identified k_ba, k_tf since issue 12's front
+    assembly), it is because the +/-10 % curves cross once, just above 100 km/h (100-101):
+    the stiffer part is the more stable one at 40 and 100 km/h, the less stable one at 210."""
+    kmh, stiffer_minus_softer = _one_at_a_time(study, factor)
+    at = {v: stiffer_minus_softer[kmh == v][0] for v in (40.0, 100.0, 210.0)}
+    assert at[40.0] < 0 and at[100.0] < 0 < at[210.0], at
+    crossings = kmh[:-1][np.diff(np.sign(stiffer_minus_softer)) != 0]
+    assert len(crossings) == 1 and 100.0 <= crossings[0] < 110.0, crossings
 
 
 @ON_BOTH

@@ -9,6 +9,14 @@ leaf below it together (e.g. 'sections.spar.*' scales diameter and wall: a geome
 The fit minimises log-ratios of (f_torsion, f_bending, k, k_t, k_b) to the paper and penalises
 a first clamped mode that is not of the paper's type. It prints the fitted values; copying them
 into the YAML (with a comment saying what was fitted) is done by hand.
+
+--match-body PART=BODY:SECTION[,SECTION...] keeps a group of the component equal to a rigid body
+of the vehicle (--vehicle, default touring) while the fit changes its members: before every
+evaluation the rigid part PART is reset so that the members of those sections plus every rigid
+part on their nodes have BODY's mass, centre of mass and inertia (e.g. the front assembly's
+lower fork: lower_fork_casting=lower_fork:slider,lower_bridge,axle). A rigid part's inertia is
+diagonal in the component axes: the products the members leave are folded into I_zz about the
+vehicle's steering axis (role steer), so the inertia about that axis is exact.
 """
 import argparse
 import copy
@@ -18,10 +26,13 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from motoflex_ros.config import load_yaml, resolve_config, validate
+from motoflex_ros.structures.assembly import Structure, rigid_body_mass
 from motoflex_ros.structures.components import Component
 from motoflex_ros.structures.published import paper_table1_eigenfrequencies, paper_table2_stiffness
-from motoflex_ros.structures.schema import STRUCTURE_SCHEMA, structure_from_config
+from motoflex_ros.structures.schema import STRUCTURE_SCHEMA, _add_members, structure_from_config
 from motoflex_ros.structures.summary import summarize
+from motoflex_ros.vehicle.model import load_vehicle
+from motoflex_ros.vehicle.superelement import rigid_field
 
 FIRST_MODE = {"frame": "torsion", "front_assembly": "torsion", "swingarm": "bending"}
 
@@ -60,6 +71,58 @@ def apply(data, params, factors):
         else:
             parent, key = _get_parent(out, path)
             parent[key] = parent[key] * factor
+    return out
+
+
+def group_mass(data, sections, skip=()):
+    """Mass [kg], centre of mass [m] and inertia about it [kg m^2] (component frame) of the
+    members of ``sections`` and the rigid parts on their nodes (parts named in ``skip`` left
+    out); the consistent beam mass matrices, rigid motion of the group's nodes."""
+    cfg = validate(copy.deepcopy(data), STRUCTURE_SCHEMA, "calibration")
+    cfg["members"] = [m for m in cfg["members"] if m["section"] in sections]
+    held = {m[end] for m in cfg["members"] for end in ("from", "to")}
+    s = Structure()
+    names = {n: s.add_node(xyz) for n, xyz in cfg["nodes"].items()}
+    _add_members(s, cfg, names, "calibration")
+    asm = s.assemble()
+    gamma = rigid_field(s.xyz)
+    rigid = gamma.T @ (asm.expand @ asm.M @ asm.expand.T).toarray() @ gamma
+    for part_name, part in cfg["rigid_parts"].items():
+        if part["node"] in held and part_name not in skip:
+            node = np.asarray(cfg["nodes"][part["node"]], float)
+            block = rigid_body_mass(part["mass"], np.diag(part["inertia"]),
+                                    np.asarray(part["cg"], float) - node)
+            g = rigid_field(node[None, :])
+            rigid += g.T @ block @ g
+    mass = rigid[3, 3]
+    cross = -rigid[3:, :3] / mass              # [c]x: node velocity v0 - [r]x omega
+    cg = np.array([cross[2, 1], cross[0, 2], cross[1, 0]])
+    return mass, cg, rigid[:3, :3] - mass * (cg @ cg * np.eye(3) - np.outer(cg, cg))
+
+
+def _about(mass, cg, inertia, point):
+    r = cg - point
+    return inertia + mass * (r @ r * np.eye(3) - np.outer(r, r))
+
+
+def match_body(data, spec, vehicle):
+    """``data`` with rigid part PART reset as --match-body PART=BODY:SECTIONS says."""
+    part_name, rest = spec.split("=")
+    body_name, sections = rest.split(":")
+    body = next(b for b in vehicle.bodies if b.name == body_name)
+    steer = next(j for j in vehicle.joints if j.name == vehicle.roles.get("steer", "steer"))
+    out = copy.deepcopy(data)
+    origin = np.asarray(out["placement"]["origin"], float)
+    mass, cg, inertia = group_mass(out, set(sections.split(",")), skip=(part_name,))
+    m_p = body.mass - mass
+    c_body = np.asarray(body.com, float) - origin
+    c_p = (body.mass * c_body - mass * cg) / m_p
+    tensor = _about(body.mass, c_body, body.inertia, c_p) - _about(mass, cg, inertia, c_p)
+    a = np.asarray(steer.axis, float) / np.linalg.norm(steer.axis)
+    diag = np.diag(tensor).copy()
+    diag[2] = (a @ tensor @ a - a[0] ** 2 * diag[0] - a[1] ** 2 * diag[1]) / a[2] ** 2
+    part = out["rigid_parts"][part_name]
+    part.update(mass=float(m_p), cg=[float(x) for x in c_p], inertia=[float(x) for x in diag])
     return out
 
 
@@ -110,10 +173,21 @@ def main():
     ap.add_argument("--weights", default="1,1,1,0.5,0.5")
     ap.add_argument("--max-factor", type=float, default=4.0)
     ap.add_argument("--out", help="write the fitted configuration (no comments) to this file")
+    ap.add_argument("--match-body", help="PART=BODY:SECTION[,SECTION...] (see above)")
+    ap.add_argument("--vehicle", default="touring", help="vehicle for --match-body")
     args = ap.parse_args()
     weights = [float(w) for w in args.weights.split(",")]
     data = load_yaml(resolve_config("components", args.component))
     name = data["component"]
+    vehicle = load_vehicle(resolve_config("vehicles", args.vehicle)) if args.match_body else None
+
+    def prepare(d):
+        return match_body(d, args.match_body, vehicle) if args.match_body else d
+    data = prepare(data)
+    if args.match_body:
+        part = data["rigid_parts"][args.match_body.split("=")[0]]
+        print(f"{args.match_body}: mass {part['mass']:.4f} cg {np.round(part['cg'], 4).tolist()} "
+              f"inertia {np.round(part['inertia'], 4).tolist()}")
     res0, s0 = residuals(name, data, weights)
     report(name, s0)
     if not args.params:
@@ -122,11 +196,11 @@ def main():
               for p in args.params]
     args.params = [p.split("@")[0] for p in args.params]
     lim = np.array(limits)
-    fit = least_squares(lambda x: residuals(name, apply(data, args.params, np.exp(x)),
+    fit = least_squares(lambda x: residuals(name, prepare(apply(data, args.params, np.exp(x))),
                                             weights)[0],
                         np.zeros(len(args.params)), bounds=(-lim, lim), diff_step=1e-3)
     factors = np.exp(fit.x)
-    fitted = apply(data, args.params, factors)
+    fitted = prepare(apply(data, args.params, factors))
     for group, f in zip(args.params, factors):
         path = group.split(",")[0]
         if path.endswith(".*"):

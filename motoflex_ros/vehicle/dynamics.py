@@ -22,7 +22,7 @@ from motoflex_ros.vehicle.kinematics import compile_tree, coordinate_names_of, f
 from motoflex_ros.vehicle.loops import loop_rows
 
 __all__ = ["VehicleSystem", "build_system", "bind_elements", "residual", "positions",
-           "dependent_speeds", "generalized_force_residual"]
+           "dependent_speeds", "constraint_matrix", "generalized_force_residual"]
 
 _NEWTON_STEPS = 3
 _LOOP_NEWTON_STEPS = 6      # loop closure is nonlinear in the joint angles away from x = 0
@@ -214,6 +214,13 @@ def _constraint_rows(system, frames, contacts, q):
     return np.vstack([G, loops.G]), np.concatenate([bias, loops.bias])
 
 
+def constraint_matrix(system, q):
+    """Velocity rows G (rolling, loops, locks) at coordinates q; they depend on q only."""
+    zero = np.zeros_like(q)
+    frames, contacts = _contacts(system, q, zero)
+    return _constraint_rows(system, frames, contacts, q)[0]
+
+
 def dependent_speeds(system, q, known):
     """All speeds u at coordinates q: ``known`` (n,) gives the forward speed and the
     independent speeds, the dependent ones follow from the rolling, loop and lock rows
@@ -272,12 +279,13 @@ def positions(system, x, newton_steps=None):
     return _solve_positions(system, q, newton_steps)
 
 
-def residual(system, xdot, x, v, applied=None, q=None):
+def residual(system, xdot, x, v, applied=None, q=None, G=None):
     """Residual R(x', x; v) of the equations of motion (module docstring); v [m/s] > 0.
 
     applied: optional generalised forces on the coordinates (e.g. a steer torque [N m] on the
     steer joint's entry), subtracted like every applied force. q: the coordinates at x when
-    already known (``positions(system, x)``), e.g. for many x' at one x.
+    already known (``positions(system, x)``), e.g. for many x' at one x; G: the velocity
+    rows at that q when already known (:func:`constraint_matrix`).
     """
     n = len(system.tree.coordinates)
     nq, nu = len(system.indep_pos), len(system.indep_speed)
@@ -287,7 +295,7 @@ def residual(system, xdot, x, v, applied=None, q=None):
     if system.model.base == "floating":
         known[0] = v
     known[list(system.indep_speed)] = x[nq:nq + nu]
-    u = dependent_speeds(system, q, known)
+    u = dependent_speeds(system, q, known) if G is None else _solve_dependent(system, G, known)
     frames, contacts = _contacts(system, q, u)
     G, bias = _constraint_rows(system, frames, contacts, q)
     acc = np.zeros(n, dtype)

@@ -177,9 +177,14 @@ def _child_state(coord, k, parent, q, u, heading):
         a_w = heading[0] @ coord.axis
         a_dot = heading[1] * cross(np.array([0.0, 0.0, 1.0]), a_w)
     if coord.kind == "revolute":
-        rel = rotation(coord.axis, q[k])
-        R = parent.R @ rel
-        t = parent.R @ (coord.point - rel @ coord.point) + parent.t
+        if q[k] == 0:
+            # exactly zero (no perturbation flows through it): the rotation is the identity,
+            # the same value and derivative Rodrigues would give, without computing it
+            R, t = parent.R, parent.t
+        else:
+            rel = rotation(coord.axis, q[k])
+            R = parent.R @ rel
+            t = parent.R @ (coord.point - rel @ coord.point) + parent.t
         s_w = parent.R @ coord.point + parent.t
         s_dot = parent.v0 + cross(parent.w, s_w)
         col_w, col_v = a_w, cross(s_w, a_w)

@@ -13,7 +13,7 @@ import numpy as np
 import scipy.linalg
 
 from motoflex_ros.errors import ModelError
-from motoflex_ros.vehicle.dynamics import build_system, positions, residual
+from motoflex_ros.vehicle.dynamics import build_system, constraint_matrix, positions, residual
 
 __all__ = ["LinearVehicle", "SecondOrderMatrices", "linearize_at", "linearize",
            "is_singular", "SINGULAR_RTOL"]
@@ -66,13 +66,17 @@ def linearize_at(system, v):
     # that perturbs x' or a speed or tyre state
     # (one Newton step is exact for a perturbation of the reference: dynamics.positions)
     q_ref = positions(system, zero, newton_steps=1)
+    G_ref = constraint_matrix(system, q_ref)     # the velocity rows at q_ref, shared
     n_pos = len(system.indep_pos)
     for k in range(n):
         step = np.zeros(n, complex)
         step[k] = 1j * _STEP
-        E[:, k] = residual(system, step, zero, v, q=q_ref).imag / _STEP
-        q = positions(system, step, newton_steps=1) if k < n_pos else q_ref
-        A[:, k] = -residual(system, zero, step, v, q=q).imag / _STEP
+        E[:, k] = residual(system, step, zero, v, q=q_ref, G=G_ref).imag / _STEP
+        if k < n_pos:
+            A[:, k] = -residual(system, zero, step, v,
+                                q=positions(system, step, newton_steps=1)).imag / _STEP
+        else:
+            A[:, k] = -residual(system, zero, step, v, q=q_ref, G=G_ref).imag / _STEP
     return E, A
 
 
