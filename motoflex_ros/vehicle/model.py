@@ -244,7 +244,7 @@ MIN_WHEELBASE_M = 0.1
 """Smallest distance [m] in x between the wheel centres (the wheel loads divide by it)."""
 
 
-def _static_loads(bodies, wheel_specs, gravity, source):
+def _static_loads(bodies, wheel_specs, gravity, source="<dict>"):
     """Static vertical wheel loads [N] of a two-wheeler from the moment balance in x-z;
     ConfigError when the wheels are (nearly) at one x or a load is not positive."""
     masses = [(b.mass, b.com[0]) for b in bodies.values()]

@@ -25,7 +25,7 @@ WHEEL_INERTIA_MAX = 1e3  # [kg m^2]
 WHEEL_RADIUS_M = (0.01, 2.0)
 JOINT_STIFFNESS_MAX = 1e10  # [N m/rad] or [N/m]
 JOINT_DAMPING_MAX = 1e8  # [N m s/rad] or [N s/m]
-TYRE_STIFFNESS_MAX = 1e7  # [N/rad], [N m/rad]
+TYRE_STIFFNESS_MAX = 1e12  # [N/rad], [N m/rad]; 1e10 is a tyre at its knife-edge limit
 MF_COEFFICIENT_MAX = 1e4  # |coefficient| of the Magic Formula (dimensionless or per unit)
 SPEED_MAX_MPS = float(kmh_to_ms(400.0))  # [m/s] fastest speed of a sweep or a road test
 
