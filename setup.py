@@ -25,7 +25,7 @@ setup(
     name=PACKAGE,
     version="0.1.0",
     packages=find_packages(exclude=["test", "test.*"]),
-    package_data={PACKAGE: ["config/*/*.yaml"]},
+    package_data={PACKAGE: ["config/*/*.yaml", "config/*/*.xml"]},
     include_package_data=True,
     data_files=[
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
@@ -34,6 +34,7 @@ setup(
         ("share/" + PACKAGE + "/config/vehicles", glob("config/vehicles/*.yaml")),
         ("share/" + PACKAGE + "/config/protocols", glob("config/protocols/*.yaml")),
         ("share/" + PACKAGE + "/config/nodes", glob("config/nodes/*.yaml")),
+        ("share/" + PACKAGE + "/config/dds", glob("config/dds/*.xml")),
         ("share/" + PACKAGE + "/launch", glob("launch/*.launch.py")),
     ],
     python_requires=">=3.10",

@@ -20,7 +20,8 @@ import yaml
 from motoflex_ros.errors import ConfigError
 
 __all__ = ["MOTORCYCLE_COMPONENTS", "Field", "number", "positive", "angle", "validate",
-           "load_yaml", "load_config", "config_path", "resolve_config", "shipped_configs"]
+           "load_yaml", "load_config", "config_path", "resolve_config", "shipped_configs",
+           "MAX_YAML_BYTES"]
 
 _INF = math.inf
 
@@ -58,9 +59,9 @@ def number(low=-_INF, high=_INF, open_low=False, open_high=False, **kw):
     return Field("float", low, high, open_low, open_high, **kw)
 
 
-def positive(**kw):
-    """A real number > 0 (stiffness, modulus, density, length, mass...)."""
-    return Field("float", 0.0, _INF, True, False, **kw)
+def positive(high=_INF, **kw):
+    """A real number in (0, high] (stiffness, modulus, density, length, mass...)."""
+    return Field("float", 0.0, high, True, False, **kw)
 
 
 def angle(low_deg=-180.0, high_deg=180.0, **kw):
@@ -84,7 +85,10 @@ def _check_number(value, spec, source, key):
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ConfigError(source, key, f"expected a number in {_range_text(spec)}, "
                                        f"got {type(value).__name__} {value!r}")
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:   # a whole number with hundreds of digits
+        value = _INF if value > 0 else -_INF
     if math.isnan(value) or math.isinf(value):
         raise ConfigError(source, key, f"expected a finite number in {_range_text(spec)}, "
                                        f"got {value}")
@@ -173,16 +177,75 @@ _Loader.add_implicit_resolver(
     list("-+0123456789"))
 
 
+MAX_YAML_BYTES = 1_000_000
+"""Largest configuration file read [bytes] (the shipped ones are below 20 kB)."""
+
+
+def _check_duplicate_keys(node, source, key="", seen=None):
+    """ConfigError naming the first key given twice in one mapping (YAML would keep the last
+    silently), with both lines; ``node`` is the composed YAML node tree."""
+    seen = set() if seen is None else seen
+    if id(node) in seen:   # an alias: its node was checked where the anchor is
+        return
+    seen.add(id(node))
+    if isinstance(node, yaml.MappingNode):
+        lines = {}
+        for k, v in node.value:
+            name = k.value if isinstance(k, yaml.ScalarNode) else "(complex key)"
+            sub = f"{key}.{name}" if key else str(name)
+            line = f"line {k.start_mark.line + 1} column {k.start_mark.column + 1}"
+            if name in lines and name != "<<":
+                raise ConfigError(source, sub, f"given twice ({lines[name]} and {line}); each "
+                                               f"key may appear once in a mapping")
+            lines[name] = line
+            _check_duplicate_keys(v, source, sub, seen)
+    elif isinstance(node, yaml.SequenceNode):
+        for i, item in enumerate(node.value):
+            _check_duplicate_keys(item, source, f"{key}[{i}]", seen)
+
+
+def _yaml_problem(exc):
+    """A YAML error on one line: what is wrong and where (line and column of the file)."""
+    mark = getattr(exc, "problem_mark", None)
+    problem = getattr(exc, "problem", None)
+    if problem is None:   # a reader error: a character YAML does not allow
+        return " ".join(str(exc).split()).replace('in "<unicode string>", position',
+                                                  "at character")
+    context = getattr(exc, "context", None)
+    where = f" at line {mark.line + 1} column {mark.column + 1}" if mark is not None else ""
+    return f"{context + ': ' if context else ''}{problem}{where}"
+
+
 def load_yaml(path):
-    """Read a YAML file; a missing file or a YAML syntax error becomes a ConfigError."""
+    """Read a YAML file; a missing, oversized, binary or malformed file and a key given twice
+    become a ConfigError naming the file."""
     path = Path(path)
     if not path.is_file():
         raise ConfigError(path, "", "file not found")
+    size = path.stat().st_size
+    if size > MAX_YAML_BYTES:
+        raise ConfigError(path, "", f"{size} bytes is too large for a configuration file "
+                                    f"(at most {MAX_YAML_BYTES} bytes)")
     try:
-        with open(path, encoding="utf-8") as stream:
-            data = yaml.load(stream, Loader=_Loader)
+        text = path.read_bytes().decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ConfigError(path, "", f"not a text YAML file (not UTF-8: byte "
+                                    f"0x{exc.object[exc.start]:02x} at offset {exc.start})"
+                          ) from None
+    loader = _Loader(text)
+    try:
+        node = loader.get_single_node()
+        if node is not None:
+            _check_duplicate_keys(node, path)
+            data = loader.construct_document(node)
+        else:
+            data = None
     except yaml.YAMLError as exc:
-        raise ConfigError(path, "", f"not valid YAML: {exc}") from None
+        raise ConfigError(path, "", f"not valid YAML: {_yaml_problem(exc)}") from None
+    except RecursionError:
+        raise ConfigError(path, "", "not valid YAML: nested too deeply") from None
+    finally:
+        loader.dispose()
     if data is None:
         raise ConfigError(path, "", "the file is empty")
     return data

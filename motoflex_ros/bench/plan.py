@@ -15,6 +15,7 @@ from motoflex_ros.bench.modes import clamped_modes
 from motoflex_ros.bench.protocols import MATCH_STATIC
 from motoflex_ros.bench.response import harmonic_peak_motion
 from motoflex_ros.errors import ProtocolError
+from motoflex_ros.limits import amount, check_limit
 
 MAX_ROTATION_RAD = 0.05  # [rad] largest end rotation of a test: small, linear deformation
 DECAY_ALIAS_SHARE = 0.01  # modes swinging more than 1 % of the largest in a decay...
@@ -23,6 +24,7 @@ LOAD_MARGIN = 1.5  # a reported load may reach 1.5 x the largest commanded one
 
 __all__ = ["TestPlan", "CampaignPlan", "plan_campaign", "sweep_frequencies", "onset_times",
            "matched_amplitude", "check_linear", "protocol_error", "decay_swing_shares",
+           "check_work",
            "MAX_ROTATION_RAD", "DECAY_ALIAS_SHARE", "DECAY_NYQUIST_FACTOR", "LOAD_MARGIN"]
 
 
@@ -156,6 +158,12 @@ def sweep_frequencies(protocol, first_hz):
     if end < sweep.start_hz:
         raise protocol_error(protocol, key, f"the sweep ends at {end:.6g} Hz, below its "
                                             f"start_hz {sweep.start_hz:g} Hz")
+    # sized before the list is made: every test samples at least one period (the whole
+    # campaign is checked when planned, check_work)
+    count = math.ceil((end - sweep.start_hz) / sweep.step_hz) + 1
+    check_limit("samples", count * protocol.harmonic.samples_per_period,
+                protocol.source or "protocol", "sweep.step_hz",
+                f"a sweep of {count} tests from {sweep.start_hz:g} to {end:.6g} Hz")
     freqs = list(np.arange(sweep.start_hz, end - 1e-9 * end, sweep.step_hz))
     return tuple(float(f) for f in freqs) + (float(end),)
 
@@ -237,6 +245,40 @@ def check_linear(plan, reduced, protocol):
             f"small and linear, lower the load")
 
 
+def _length_key(plan, protocol):
+    """The protocol key that sets most of how long a planned test runs."""
+    if plan.kind == "static":
+        hold = plan.max_samples / plan.rate_hz - plan.ramp_time_s
+        return "static.ramp_time_s" if plan.ramp_time_s > hold else "static.hold_time_s"
+    if plan.kind == "decay":
+        return "modal.decay_periods"
+    # a harmonic test: the onset envelope (onset periods or beats), the wait for a resonance
+    # to build up (time constants), then the periods read
+    envelope = plan.onset_time_s
+    if envelope * plan.frequency_hz <= protocol.harmonic.onset_periods + 1:
+        envelope_key = "harmonic.onset_periods"
+    else:
+        envelope_key = "harmonic.onset_beat_cycles"
+    parts = {envelope_key: envelope,
+             "harmonic.onset_time_constants": plan.read_time_s - plan.onset_time_s,
+             "harmonic.max_periods": plan.max_samples / plan.rate_hz - plan.read_time_s}
+    return max(parts, key=parts.get)
+
+
+def check_work(tests, protocol):
+    """ConfigError (the protocol file and the key that sets the longest test) when the
+    planned tests together exceed the 'samples' or 'simulated_s' limit (motoflex_ros.limits):
+    checked before anything is simulated (a decay of 1e9 periods hung the identification)."""
+    source = protocol.source or "protocol"
+    for name, size, unit in (("samples", lambda t: t.max_samples, "samples"),
+                             ("simulated_s", lambda t: t.max_samples / t.rate_hz, "s")):
+        total = sum(size(t) for t in tests)
+        longest = max(tests, key=size)
+        check_limit(name, total, source, _length_key(longest, protocol),
+                    f"the campaign of {len(tests)} tests (the longest, '{longest.name}': "
+                    f"{amount(size(longest))} {unit})")
+
+
 def plan_campaign(protocol, reduced, modes=None):
     """CampaignPlan of ``protocol`` for a ReducedComponent (its ModeSet computed if None).
 
@@ -259,6 +301,7 @@ def plan_campaign(protocol, reduced, modes=None):
                                    protocol, modes, keys))
     if protocol.modal is not None:
         tests.append(_decay(protocol, modes, reduced))
+    check_work(tests, protocol)
     for plan in tests:
         check_linear(plan, reduced, protocol)
     return CampaignPlan(tuple(tests), protocol, modes)

@@ -50,21 +50,32 @@ shipped test (0.8 mrad, the swingarm's static test), so a smaller spread can onl
 It is a lower bound, not a guarantee: with 5 um noise the swingarm's torsion k is 19 % off at a
 12 mm spread and 6 % off at 36 mm (the shipped markers: 184 mm)."""
 
+# Physical ranges of the protocol's numbers (SI). The length of each test is also bounded by
+# the work limits of motoflex_ros.limits when the protocol is planned (bench/plan.py).
+FORCE_N = (1e-3, 1e6)  # [N]; a smaller load's deformation underflows (preload 1e-300 N)
+MAX_FREQUENCY_HZ = 1e6
+MAX_TIME_S = 3600.0
+MAX_PERIODS = 1e5
+MAX_SIZE_M = 10.0
+
 _SENSOR = Field("mapping", required=False, default=None, fields={
     "noise_m": number(0.0, MAX_NOISE_M, required=False, default=5e-6,
                       help=f"noise std [m] in [0, {MAX_NOISE_M:g}]"),
-    "resolution_m": number(0.0, required=False, default=1e-7, help="resolution [m] >= 0"),
-    "max_rate_hz": positive(required=False, default=5000.0, help="maximum frame rate [Hz]"),
+    "resolution_m": number(0.0, MAX_NOISE_M, required=False, default=1e-7,
+                           help="resolution [m]"),
+    "max_rate_hz": positive(MAX_FREQUENCY_HZ, required=False, default=5000.0,
+                            help="maximum frame rate [Hz]"),
     "latency_s": number(0.0, 1.0, required=False, default=0.001, help="latency [s]"),
     "markers": Field("list", required=False, default=None, min_items=3,
-                     item=Field("vec3"), help="marker offsets from q0 [m], >= 3"),
+                     item=Field("vec3", -MAX_SIZE_M, MAX_SIZE_M),
+                     help="marker offsets from q0 [m], >= 3"),
 })
 _STATIC = Field("mapping", fields={
-    "force_n": positive(help="F_st [N] > 0"),
-    "ramp_time_s": positive(help="ramp time [s] > 0"),
-    "hold_time_s": positive(help="hold time [s] > 0"),
-    "sample_rate_hz": positive(help="sample rate [Hz] > 0"),
-    "min_ramp_periods": number(1.0, required=False, default=5.0,
+    "force_n": number(*FORCE_N, help="F_st [N]"),
+    "ramp_time_s": positive(MAX_TIME_S, help="ramp time [s]"),
+    "hold_time_s": positive(MAX_TIME_S, help="hold time [s]"),
+    "sample_rate_hz": positive(MAX_FREQUENCY_HZ, help="sample rate [Hz]"),
+    "min_ramp_periods": number(1.0, MAX_PERIODS, required=False, default=5.0,
                                help="ramp time in periods of the first mode, >= 1"),
 })
 _HARMONIC_TEST = Field("mapping", fields={
@@ -76,28 +87,31 @@ _HARMONIC = Field("mapping", fields={
     "samples_per_period": Field("int", 4, 1000, help="samples per period, 4..1000"),
     "onset_periods": Field("int", 0, 1000, required=False, default=3,
                            help="smooth onset, at least this many periods"),
-    "onset_beat_cycles": number(0.0, required=False, default=4.0,
+    "onset_beat_cycles": number(0.0, 1000.0, required=False, default=4.0,
                                 help="onset at least this many beats with the nearest mode"),
-    "onset_time_constants": number(0.0, required=False, default=4.0,
+    "onset_time_constants": number(0.0, 1000.0, required=False, default=4.0,
                                    help="at resonance, onset at least this many 1/(zeta w)"),
-    "band_length_m": positive(help="tolerance band of the running mean of l, b [m] > 0"),
-    "band_angle_rad": positive(help="tolerance band of the running mean of beta [rad] > 0"),
+    "band_length_m": positive(MAX_SIZE_M, help="tolerance band of the running mean of l, b "
+                                               "[m]"),
+    "band_angle_rad": positive(3.15, help="tolerance band of the running mean of beta [rad]"),
     "settle_peaks": Field("int", 2, 10000, help="peaks the mean must stay in the band"),
-    "max_periods": number(1.0, help="maximum periods read after the onset, >= 1"),
+    "max_periods": number(1.0, MAX_PERIODS, help="maximum periods read after the onset"),
     "tests": Field("list", item=_HARMONIC_TEST,
                    help="harmonic tests; torsion and bending required"),
 })
 _SWEEP = Field("mapping", required=False, default=None, fields={
-    "amplitude_n": positive(help="force amplitude [N] > 0"),
-    "start_hz": positive(help="first frequency [Hz] > 0"),
-    "step_hz": positive(help="frequency step [Hz] > 0"),
-    "end_below_first_hz": positive(required=False, default=None,
+    "amplitude_n": number(*FORCE_N, help="force amplitude [N]"),
+    "start_hz": positive(MAX_FREQUENCY_HZ, help="first frequency [Hz]"),
+    "step_hz": positive(MAX_FREQUENCY_HZ, help="frequency step [Hz]"),
+    "end_below_first_hz": positive(MAX_FREQUENCY_HZ, required=False, default=None,
                                    help="end this far below the first eigenfrequency [Hz]"),
-    "end_hz": positive(required=False, default=None, help="last frequency [Hz]"),
+    "end_hz": positive(MAX_FREQUENCY_HZ, required=False, default=None,
+                       help="last frequency [Hz]"),
 })
 _MODAL = Field("mapping", required=False, default=None, fields={
-    "preload_n": positive(help="static preload released at t = 0 [N] > 0"),
-    "decay_periods": positive(help="record length in periods of the lowest target mode"),
+    "preload_n": number(*FORCE_N, help="static preload released at t = 0 [N]"),
+    "decay_periods": positive(MAX_PERIODS, help="record length in periods of the lowest "
+                                                "target mode"),
     "samples_per_period": Field("int", 4, 1000, help="samples per period of the highest "
                                                      "target mode, 4..1000"),
 })
@@ -185,7 +199,7 @@ def _check_amplitude(value, source, key):
     if isinstance(value, str):
         raise ConfigError(source, key, f"'{value}' is not an amplitude; allowed: a number > 0 "
                                        f"[N] or '{MATCH_STATIC}'")
-    return validate(value, positive(), source, key)
+    return validate(value, number(*FORCE_N), source, key)
 
 
 def _check_frequency(value, source, key):
@@ -195,7 +209,7 @@ def _check_frequency(value, source, key):
             raise ConfigError(source, key, f"'{value}' is not a frequency; allowed: a number "
                                            f"> 0 [Hz] or one of: {', '.join(MODE_FREQUENCIES)}")
         return value
-    return validate(value, positive(), source, key)
+    return validate(value, positive(MAX_FREQUENCY_HZ), source, key)
 
 
 def _check_markers(markers, source, key):

@@ -24,10 +24,12 @@ from motoflex_ros.cli.inputs import identification_results, motorcycle_component
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.config import resolve_config
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.limits import check_limit
 from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import MODE_NAMES, modal_sweep
+from motoflex_ros.vehicle.schema import SPEED_MAX_MPS
 from motoflex_ros.vehicle.variants import FLEX_CHOICES, parse_components
 
 __all__ = ["register", "run", "requested_speeds", "sweep_to_json", "model_to_json"]
@@ -60,8 +62,10 @@ def register(subparsers):
 
 
 def requested_speeds(args):
-    """Speeds [m/s] from --speeds or --range-kmh/--step; ConfigError on bad values."""
+    """Speeds [m/s] from --speeds or --range-kmh/--step; ConfigError on bad values, on a speed
+    above SPEED_MAX_MPS and on more speeds than the 'speeds' limit (sized before any array)."""
     if args.speeds is not None:
+        check_limit("speeds", len(args.speeds), _ARGS, "--speeds")
         speeds = np.asarray(args.speeds, float)
         key = "--speeds"
     else:
@@ -70,13 +74,24 @@ def requested_speeds(args):
         low, high = args.range_kmh
         if not high >= low:
             raise ConfigError(_ARGS, "--range-kmh", f"HI {high:g} must be >= LO {low:g}")
-        count = int(math.floor((high - low) / args.step + 1e-9)) + 1
-        speeds = (low + args.step * np.arange(count)) / 3.6
         key = "--range-kmh"
+        check_top_speed(high / 3.6, key)
+        count = math.floor((high - low) / args.step + 1e-9) + 1
+        check_limit("speeds", count, _ARGS, "--step", f"--range-kmh {low:g} {high:g} in "
+                                                      f"steps of {args.step:g} km/h")
+        speeds = (low + args.step * np.arange(count)) / 3.6
     bad = speeds[~(np.isfinite(speeds) & (speeds > 0))]
     if bad.size:
         raise ConfigError(_ARGS, key, f"speeds must be finite and > 0, got {bad[0]:g}")
+    check_top_speed(speeds.max(), key)
     return speeds
+
+
+def check_top_speed(speed, key, source=_ARGS):
+    """ConfigError when a speed [m/s] is above SPEED_MAX_MPS (400 km/h)."""
+    if not speed <= SPEED_MAX_MPS:
+        raise ConfigError(source, key, f"speeds must be at most {SPEED_MAX_MPS:.4g} m/s "
+                                       f"({SPEED_MAX_MPS * 3.6:g} km/h), got {speed:g} m/s")
 
 
 def _pair(z):

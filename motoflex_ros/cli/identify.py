@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 from motoflex_ros.cli.inputs import noise_argument, seed_argument
-from motoflex_ros.cli.output import emit_json, print_table
+from motoflex_ros.cli.output import add_force_option, check_new_file, emit_json, print_table
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.results_file import write_results
 
@@ -36,7 +36,9 @@ def register(subparsers):
                         "protocol)")
     p.add_argument("--seed", type=seed_argument, default=0,
                    help="seed of the sensor noise, a whole number >= 0 (default 0)")
-    p.add_argument("--out", metavar="FILE", help="write the results (.yaml/.yml or .json)")
+    p.add_argument("--out", metavar="FILE", help="write the results (.yaml/.yml or .json); "
+                                                 "an existing file only with --force")
+    add_force_option(p)
     p.add_argument("--json", action="store_true", help="print the results as JSON only")
     p.add_argument("--plot", metavar="DIR", help="write the Figs. 5-7 axis plots to DIR")
     p.set_defaults(func=run)
@@ -96,6 +98,8 @@ def run(args):
     """Run the campaign of each component; returns the exit code."""
     from motoflex_ros.bench.campaign import identify_components
     components = args.component or list(DEFAULT_COMPONENTS)
+    if args.out:
+        check_new_file(args.out, args.force)
     runs = identify_components(components, args.protocol, args.noise, args.seed)
     results = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
     if args.out:

@@ -5,8 +5,9 @@ from pathlib import Path
 
 import numpy as np
 
-from motoflex_ros.config import MOTORCYCLE_COMPONENTS, load_yaml
+from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.limits import check_limit
 
 __all__ = ["COMPONENTS", "identification_results", "motorcycle_components",
            "add_study_inputs", "study_speeds", "noise_argument", "seed_argument"]
@@ -18,11 +19,8 @@ def identification_results(path=None, components=COMPONENTS, seed=0):
     """{component: results} from a YAML/JSON file of ``motoflex identify --out``, or, without a
     file, from running the offline bench campaign (seeded) for ``components``."""
     if path:
-        data = load_yaml(Path(path))
-        if not isinstance(data, dict):
-            raise ConfigError(path, "", "expected a mapping {component: results}")
-        from motoflex_ros.identify.results import ResultsFile
-        return ResultsFile(data, path)
+        from motoflex_ros.identify.results import load_results_file
+        return load_results_file(Path(path))
     from motoflex_ros.bench.campaign import identify_components
 
     print("running the bench identification ...", file=sys.stderr)
@@ -50,6 +48,8 @@ def study_speeds(step_kmh, max_step_kmh):
         raise ConfigError("command line", "--step-kmh",
                           f"must be in (0, {max_step_kmh:g}] km/h, got {step_kmh:g}")
     count = int(np.floor(170.0 / step_kmh + 1e-9)) + 1
+    check_limit("speeds", count, "command line", "--step-kmh",
+                f"40 to 210 km/h in steps of {step_kmh:g} km/h")
     kmh = 40.0 + step_kmh * np.arange(count)
     if kmh[-1] < 210.0 - 1e-9:
         kmh = np.append(kmh, 210.0)

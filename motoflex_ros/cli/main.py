@@ -11,6 +11,7 @@ import os
 import sys
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.limits import LIMITS, parse_limit, set_limit
 
 __all__ = ["main", "VERBS"]
 
@@ -35,16 +36,45 @@ def build_parser():
                 continue
             raise
         module.register(subparsers)
+    _add_limit_option(subparsers)
     return parser
+
+
+def _limit_argument(text):
+    """Type of --limit: NAME=VALUE (motoflex_ros.limits)."""
+    try:
+        return parse_limit(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _add_limit_option(subparsers):
+    """--limit NAME=VALUE on every verb (on the leaves of nested verbs such as study)."""
+    for sub in subparsers.choices.values():
+        nested = [a for a in sub._actions if isinstance(a, argparse._SubParsersAction)]
+        if nested:
+            _add_limit_option(nested[0])
+            continue
+        sub.add_argument("--limit", action="append", default=[], type=_limit_argument,
+                         metavar="NAME=VALUE",
+                         help="raise a limit on the work an input may ask for: "
+                              + ", ".join(f"{n} (default {lim.default:g} {lim.unit})"
+                                          for n, lim in LIMITS.items()) + "; repeatable")
 
 
 def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
+    for name, value in getattr(args, "limit", []):
+        set_limit(name, value)
     try:
         code = args.func(args)
     except MotoflexError as exc:
         print(f"motoflex {args.verb}: error: {exc}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"motoflex {args.verb}: error: out of memory: the input asks for more than this "
+              f"machine holds (a --limit raised too far?)", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"motoflex {args.verb}: interrupted", file=sys.stderr)

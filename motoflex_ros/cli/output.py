@@ -1,11 +1,32 @@
 """Shared output helpers of the CLI verbs: JSON to stdout, tables, atomic file writes."""
 import json
 import sys
+from pathlib import Path
 
+from motoflex_ros.errors import ConfigError
 from motoflex_ros.files import atomic_write_text
 from motoflex_ros.results_file import to_jsonable
 
-__all__ = ["emit_json", "to_jsonable", "atomic_write_text", "print_table"]
+__all__ = ["emit_json", "to_jsonable", "atomic_write_text", "print_table", "add_force_option",
+           "check_new_file"]
+
+
+def add_force_option(parser):
+    """--force: allow the verb's output file to replace an existing one."""
+    parser.add_argument("--force", action="store_true",
+                        help="replace the output file if it exists (default: refuse)")
+
+
+def check_new_file(path, force, option="--out"):
+    """ConfigError naming ``option`` when ``path`` exists (and ``force`` is false) or is a
+    directory, checked before any work: nothing is overwritten silently."""
+    path = Path(path)
+    if path.is_dir():
+        raise ConfigError("command line", option, f"{path} is a directory; give a file name")
+    if path.exists() and not force:
+        raise ConfigError("command line", option, f"{path} exists; give --force to replace "
+                                                  f"it, or another file name")
+    return path
 
 
 def emit_json(obj, stream=None):

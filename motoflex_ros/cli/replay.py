@@ -9,6 +9,7 @@ and writes its results to FILE (the format of ``motoflex identify --out``), whic
 the live run's identification.json. A run whose status.json is not "complete" (failed,
 interrupted, killed) is refused unless --allow-incomplete.
 """
+from motoflex_ros.cli.output import add_force_option, check_new_file
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
 __all__ = ["register", "run", "bag_components"]
@@ -26,7 +27,9 @@ def register(subparsers):
                         help="speed factor against the recorded time (0: as fast as possible; "
                              "default 1, or 0 with --identify)")
     parser.add_argument("--identify", metavar="FILE",
-                        help="identify the components again from the replay; write FILE")
+                        help="identify the components again from the replay; write FILE (an "
+                             "existing file only with --force)")
+    add_force_option(parser)
     parser.add_argument("--wait-for", action="append", default=[], metavar="NODE",
                         help="wait until node NODE has announced itself on /rig/ready (its "
                              "subscriptions see the replay) before the first message, so it "
@@ -56,6 +59,8 @@ def run(args):
     rate = args.rate if args.rate is not None else (0.0 if args.identify else 1.0)
     if not 0.0 <= rate <= 1000.0:
         raise MotoflexError(f"--rate {rate:g} is out of range [0, 1000]")
+    if args.identify:
+        check_new_file(args.identify, args.force, "--identify")
     info = bag_info(args.bag)
     incomplete = require_complete(info.path, args.allow_incomplete)
     if incomplete:
@@ -78,7 +83,7 @@ def _identify(info, rate, out):
 
     from motoflex_ros.errors import MotoflexError
     from motoflex_ros.launcher.graph import NodeSpec
-    from motoflex_ros.launcher.run import run_graph
+    from motoflex_ros.launcher.run import run_graph, work_folder
     components = bag_components(info)
     if not components:
         raise MotoflexError(f"{info.path}: no /bench/<component>/phase topic to identify from")
@@ -88,7 +93,9 @@ def _identify(info, rate, out):
              NodeSpec("bag_replay", {"bag": str(info.path), "rate": rate,
                                      "wait_for": ["identification"],
                                      "exclude": ["/rig/", "/identification/", "/vehicle/"]})]
-    run = run_graph(specs, "bag_replay", info.duration_ns / 1e9, finishers=["identification"])
+    with work_folder("motoflex_run_") as work_dir:   # removed at the end
+        run = run_graph(specs, "bag_replay", info.duration_ns / 1e9, work_dir=work_dir,
+                        finishers=["identification"])
     print(f"identified {', '.join(components)} from {info.path} -> {out} "
           f"({run.wall_s:.1f} s)")
     return 0

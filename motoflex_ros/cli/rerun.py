@@ -1,6 +1,8 @@
 """``motoflex rerun BAG``: convert a recorded run into its rerun recording BAG/<run>.rrd."""
 from pathlib import Path
 
+from motoflex_ros.cli.output import add_force_option, check_new_file
+
 __all__ = ["register", "run"]
 
 
@@ -12,7 +14,9 @@ def register(subparsers):
                     "deformation axes, identification, vehicle. Open it with 'motoflex view'.")
     parser.add_argument("bag", type=Path, help="run folder bags/<run> (metadata.yaml + .mcap)")
     parser.add_argument("--out", type=Path, default=None,
-                        help="output .rrd (default: <bag>/<run>.rrd)")
+                        help="output .rrd (default: <bag>/<run>.rrd, replaced when it exists; "
+                             "an existing --out only with --force)")
+    add_force_option(parser)
     parser.add_argument("--vehicle", default="touring",
                         help="shipped vehicle drawn with its modes and road test, or 'none' "
                              "(default: touring; its lumped 'static' variant when the run "
@@ -22,6 +26,8 @@ def register(subparsers):
 
 def run(args):
     from motoflex_ros.record.rerun_bag import convert_bag
+    if args.out is not None:
+        check_new_file(args.out, args.force)
     vehicle = None if args.vehicle == "none" else args.vehicle
     path, converted = convert_bag(args.bag, args.out, vehicle, progress=True)
     print(f"wrote {path}")

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from motoflex_ros.errors import ProtocolError
+from motoflex_ros.errors import ConfigError, ProtocolError
 from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.decay import match_pole
 from motoflex_ros.identify.decomposition import decompose_stiffness, split_problem
@@ -21,7 +21,7 @@ from motoflex_ros.identify.stiffness import modal_damping, modal_inertia, static
 from motoflex_ros.identify.uncertainty import LEVEL, interval, propagate
 
 __all__ = ["AxisModel", "ComponentIdentification", "identify_component", "static_model",
-           "ResultsFile", "results_source", "MODEL_TESTS", "RESULT_KEYS"]
+           "ResultsFile", "load_results_file", "results_source", "MODEL_TESTS", "RESULT_KEYS"]
 
 MODEL_TESTS = ("static", "torsion", "bending")
 """Tests the identification needs, by name: eqs. (8)-(12) use the static test and the harmonic
@@ -38,6 +38,21 @@ class ResultsFile(dict):
     def __init__(self, data, source):
         super().__init__(data)
         self.source = str(source)
+
+
+def load_results_file(path, components=()):
+    """ResultsFile of a YAML/JSON file of ``motoflex identify --out``; ConfigError naming the
+    file when it is missing, not YAML/JSON, not a mapping or lacks one of ``components``."""
+    from motoflex_ros.config import load_yaml
+    data = load_yaml(path)
+    if not isinstance(data, dict):
+        raise ConfigError(path, "", "expected a mapping {component: results}")
+    missing = [name for name in components if name not in data]
+    if missing:
+        raise ConfigError(path, missing[0], f"missing: no results of component "
+                                            f"'{missing[0]}' (the file has "
+                                            f"{', '.join(map(str, data)) or 'none'})")
+    return ResultsFile(data, path)
 
 
 def results_source(identified):

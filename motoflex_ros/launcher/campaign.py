@@ -7,14 +7,13 @@ The identification node writes the same result file as ``motoflex identify --out
 recorder writes the rosbag2 bag.
 """
 import json
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.launcher.graph import NodeSpec
-from motoflex_ros.launcher.run import RunFailed, run_graph
+from motoflex_ros.launcher.run import RunFailed, run_graph, work_folder
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
            "planned_duration", "RESULT_FILE", "VEHICLE_COMPONENTS", "VEHICLE_VARIANT"]
@@ -103,14 +102,16 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
     result_file = bag / RESULT_FILE
     specs = campaign_specs(components, bag, noise, seed, protocol, staged(result_file))
     start = time.monotonic()
-    work_dir = work_dir or tempfile.mkdtemp(prefix="motoflex_campaign_")
     finishers = ["vehicle_simulator"] if with_vehicle(components) else []
-    run = run_graph(specs, "load_actuator", planned_duration(components, noise, protocol),
-                    work_dir=work_dir, progress=progress, finishers=finishers,
-                    collect=[("/vehicle/eigenvalues", _diagnostic_array())])
-    if not staged(result_file).is_file():
-        raise RunFailed(f"the identification node wrote no {RESULT_FILE} in {bag}; its log: "
-                        f"{Path(work_dir) / 'log' / 'identification.log'}")
+    # parameters and logs in a temporary folder, removed at the end; on a failure the logs
+    # are kept in the bag's folder (work_folder)
+    with work_folder("motoflex_campaign_", work_dir, keep_logs_in=bag) as work_dir:
+        run = run_graph(specs, "load_actuator", planned_duration(components, noise, protocol),
+                        work_dir=work_dir, progress=progress, finishers=finishers,
+                        collect=[("/vehicle/eigenvalues", _diagnostic_array())])
+        if not staged(result_file).is_file():
+            raise RunFailed(f"the identification node wrote no {RESULT_FILE} in {bag}; its "
+                            f"log: {work_dir / 'log' / 'identification.log'}")
     staged(result_file).replace(result_file)
     results = json.loads(result_file.read_text())
     eig = run.collected["/vehicle/eigenvalues"]

@@ -7,10 +7,12 @@ ROS_DOMAIN_ID (``ROS_DOMAIN_ID`` if set, else a free one: :mod:`.domain`) and DD
 (:mod:`.dds`) are printed on stderr at the start.
 """
 import os
+import shutil
 import signal
 import sys
 import tempfile
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -19,7 +21,8 @@ from motoflex_ros.launcher.dds import configure_dds
 from motoflex_ros.launcher.domain import DomainLock, requested_domain
 from motoflex_ros.launcher.graph import NodeDied, NodeGraph, describe_exit
 
-__all__ = ["RunFailed", "RunInterrupted", "RunResult", "run_graph"]
+__all__ = ["RunFailed", "RunInterrupted", "RunResult", "run_graph", "work_folder",
+           "ros_log_home"]
 
 
 class RunFailed(MotoflexError):
@@ -38,6 +41,46 @@ class RunResult:
     wall_s: float
     exit_codes: dict
     collected: dict
+
+
+def ros_log_home():
+    """Where ROS keeps logs: $ROS_LOG_DIR, else $ROS_HOME/log, else ~/.ros/log."""
+    if os.environ.get("ROS_LOG_DIR"):
+        return Path(os.environ["ROS_LOG_DIR"])
+    return Path(os.environ.get("ROS_HOME") or Path.home() / ".ros") / "log"
+
+
+@contextmanager
+def work_folder(prefix, given=None, keep_logs_in=None):
+    """The folder of a run's node parameters and logs: ``given`` as it is, or a temporary
+    folder (``prefix`` + random, in the system temp directory) removed when the run ends,
+    also when it fails. On a failure (a MotoflexError) its logs are first copied to
+    ``keep_logs_in``/log (default: a folder of the same name under :func:`ros_log_home`) and
+    the error's message names them there."""
+    if given is not None:
+        yield Path(given)
+        return
+    folder = Path(tempfile.mkdtemp(prefix=prefix))
+    try:
+        yield folder
+    except MotoflexError as exc:
+        kept = Path(keep_logs_in) / "log" if keep_logs_in else ros_log_home() / folder.name
+        _keep_logs(exc, folder / "log", kept)
+        raise
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def _keep_logs(exc, logs, kept):
+    """Copy the folder ``logs`` to ``kept`` and point the message of ``exc`` there."""
+    if not logs.is_dir() or not any(logs.iterdir()):
+        return
+    try:
+        shutil.copytree(logs, kept, dirs_exist_ok=True)
+    except OSError:
+        return   # the message still carries each failed node's last log lines
+    exc.args = tuple(a.replace(str(logs), str(kept)) if isinstance(a, str) else a
+                     for a in exc.args)
 
 
 def _raise_on_sigterm(signum, frame):

@@ -279,10 +279,38 @@ def _deliver_everything(node, timeout_s=30.0):
                                     f"everything within {timeout_s:g} s")
 
 
+def _params_files(args):
+    """The files after each --params-file among the ROS arguments."""
+    return [args[i + 1] for i, arg in enumerate(args[:-1]) if arg == "--params-file"]
+
+
+def _init_ros(args):
+    """``rclpy.init``, after checking each --params-file as the config loader checks a file
+    (missing, not text, not YAML, a key twice: ConfigError naming file and key); anything else
+    rcl refuses (e.g. a bad ``-p`` value) is a MotoflexError with rcl's message, not an
+    RCLError traceback."""
+    from motoflex_ros.config import load_yaml
+    from motoflex_ros.errors import ConfigError
+    for path in _params_files(sys.argv if args is None else list(args)):
+        if not isinstance(load_yaml(path), dict):
+            raise ConfigError(path, "", "expected a mapping {node name: {ros__parameters: "
+                                        "{name: value}}}")
+    try:
+        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    except rclpy_implementation.RCLError as exc:
+        rclpy.try_shutdown()
+        message = str(exc).split(", at ")[0]   # rcl appends the C source locations
+        raise MotoflexError(f"cannot read the ROS arguments: {message}") from None
+
+
 def _help_asked(args):
-    """Does the command line (not its ROS arguments) ask for -h / --help?"""
+    """Does the command line (not its ROS arguments) ask for -h / --help? (ROS arguments rcl
+    cannot parse, e.g. a missing --params-file, are reported by :func:`_init_ros`.)"""
     from rclpy.utilities import remove_ros_args
-    return not {"-h", "--help"}.isdisjoint(remove_ros_args(args)[1:])
+    try:
+        return not {"-h", "--help"}.isdisjoint(remove_ros_args(args)[1:])
+    except rclpy_implementation.RCLError:
+        return False
 
 
 def print_help(node_class):
@@ -311,9 +339,9 @@ def run_node(node_class, args=None):
     profile = _profiler()
     try:
         configure_dds(os.environ)   # loopback unless MOTOFLEX_DDS=network (before rclpy.init)
+        _init_ros(args)
     except MotoflexError as exc:
         return _refuse(node_class, exc)
-    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     for signum in (signal.Signals[n] for n in _SIGNAL_NAMES):
         signal.signal(signum, lambda num, _frame: stop.append(signal.Signals(num).name))
     try:

@@ -17,7 +17,6 @@ run's identification node only, or from ``result_file`` if given), builds the lu
 
 Then it exits 0 (the campaign waits for it).
 """
-import json
 import sys
 from pathlib import Path
 
@@ -37,7 +36,7 @@ from motoflex_ros.nodes.conversions import (
     seconds_to_ns,
 )
 from motoflex_ros.nodes.pacing import Waiting
-from motoflex_ros.nodes.params import Param
+from motoflex_ros.nodes.params import Param, ParameterError
 from motoflex_ros.nodes.runtime import RigNode, latched_qos, publish_patiently, run_node
 
 __all__ = ["VehicleSimulatorNode", "main", "body_rows"]
@@ -68,10 +67,17 @@ class VehicleSimulatorNode(RigNode):
 
     def __init__(self):
         from motoflex_ros.config import resolve_config
+        from motoflex_ros.errors import ConfigError
+        from motoflex_ros.identify.results import load_results_file
         from motoflex_ros.structures import load_component
         from motoflex_ros.vehicle.model import load_vehicle
         super().__init__()
         p = self.params
+        if p["speed_min_kmh"] > p["speed_max_kmh"]:
+            raise ParameterError(f"node '{self.get_name()}': parameter 'speed_min_kmh' = "
+                                 f"{p['speed_min_kmh']:g} is above 'speed_max_kmh' = "
+                                 f"{p['speed_max_kmh']:g} (expected speed_min_kmh <= "
+                                 f"speed_max_kmh: no speed to compute)")
         self.rigid = load_vehicle(resolve_config("vehicles", p["vehicle"]))
         self.components = {n: load_component(n) for n in p["components"]}
         self.identified = {}
@@ -82,7 +88,11 @@ class VehicleSimulatorNode(RigNode):
         self.bodies_pub = self.advertise(PoseArray, "/vehicle/bodies")
         self.axes_pub = self.create_publisher(Marker, "/vehicle/joint_axes", latched_qos())
         if p["result_file"]:
-            self.identified = json.loads(Path(p["result_file"]).read_text())
+            try:
+                self.identified = load_results_file(Path(p["result_file"]), p["components"])
+            except ConfigError as exc:
+                raise ParameterError(f"node '{self.get_name()}': parameter 'result_file': "
+                                     f"{exc}") from None
         else:
             self.subscribe(DiagnosticArray, "/identification/results", self._on_results,
                            qos=latched_qos(), publishers=("identification",))

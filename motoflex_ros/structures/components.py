@@ -94,7 +94,11 @@ class Component:
         asm = self.assembled()
         boundary = np.concatenate([asm.node_dofs(n) for n in self.interface_nodes])
         zeta = self.damping_ratio if zeta is None else zeta
-        cb = craig_bampton(asm.K, asm.M, boundary, n_modes, f_max_hz, zeta)
+        try:
+            cb = craig_bampton(asm.K, asm.M, boundary, n_modes, f_max_hz, zeta)
+        except ModelError as exc:   # e.g. a singular interior stiffness: name the file
+            raise ModelError(f"{self.source or self.name}: {exc} (check members, springs, "
+                             f"rigid_links and interfaces.clamps)") from None
         self._check_damping_count(cb)
         return cb, asm
 

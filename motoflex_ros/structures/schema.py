@@ -7,19 +7,35 @@ import math
 
 import numpy as np
 
-from motoflex_ros.config import Field, angle, load_yaml, positive, validate
+from motoflex_ros.config import Field, angle, load_yaml, number, positive, validate
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.inertia import check_inertia
+from motoflex_ros.limits import check_limit
 from motoflex_ros.structures.assembly import Structure
 from motoflex_ros.structures.beam import Material, rectangular_tube_section, tube_section
 
 __all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "load_component_config", "structure_from_config"]
 
+# Physical ranges of every number (SI): wide enough for any metal, composite or polymer
+# component on a bench, narrow enough that no value overflows the stiffness and mass matrices
+# (E = 1e300 made the interior stiffness singular) or underflows a section (an outer diameter
+# of 1e6 m with a 0.04 m tube gave a division by zero).
+MODULUS_PA = (1e5, 1e15)  # foam to 5,000 x steel (a nearly rigid modelling material)
+DENSITY = (1.0, 1e5)  # [kg/m^3]
+COMPONENT_SIZE_M = 10.0  # coordinates and lengths of a component [m]
+SECTION_SIZE_M = (1e-4, 2.0)  # outer diameter, width, height [m]
+WALL_M = (1e-5, 1.0)
+SPRING_MAX = 1e12  # [N/m] and [N m/rad]; a rigid connection is a rigid link
+PART_MASS_MAX_KG = 1e4
+PART_INERTIA_MAX = 1e4  # [kg m^2]
+
 _MATERIAL = Field("mapping", fields={
-    "E": positive(help="Young's modulus > 0 [Pa]"),
-    "G": positive(help="shear modulus > 0 [Pa]"),
-    "rho": positive(help="density > 0 [kg/m^3]"),
+    "E": number(*MODULUS_PA, help="Young's modulus [Pa]"),
+    "G": number(*MODULUS_PA, help="shear modulus [Pa]"),
+    "rho": number(*DENSITY, help="density [kg/m^3]"),
 })
+_POINT = Field("vec3", -COMPONENT_SIZE_M, COMPONENT_SIZE_M)
+_DIRECTION = Field("vec3", -1e3, 1e3, required=False, default=None)
 
 # modal damping ratio of the clamped reduced model: checked by components.damping_ratio_setting
 _DAMPING = Field("any", required=False, default=None,
@@ -30,9 +46,9 @@ TUBE_SCHEMA = Field("mapping", fields={
     "description": Field("str", required=False, default=""),
     "damping_ratio": _DAMPING,
     "tube": Field("mapping", fields={
-        "length": positive(help="length > 0 [m]"),
-        "outer_diameter": positive(help="outer diameter > 0 [m]"),
-        "wall_thickness": positive(help="wall thickness > 0 [m]"),
+        "length": number(1e-3, COMPONENT_SIZE_M, help="length [m]"),
+        "outer_diameter": number(*SECTION_SIZE_M, help="outer diameter [m]"),
+        "wall_thickness": number(*WALL_M, help="wall thickness [m]"),
         "pitch_deg": angle(-90.0, 90.0, help="pitch in [-90, 90] deg"),
     }),
     "material": _MATERIAL,
@@ -41,27 +57,27 @@ TUBE_SCHEMA = Field("mapping", fields={
 
 _SECTION = Field("mapping", fields={
     "shape": Field("str", choices=("tube", "rectangular_tube")),
-    "outer_diameter": positive(required=False),
-    "width": positive(required=False),
-    "height": positive(required=False),
-    "wall_thickness": positive(),
+    "outer_diameter": number(*SECTION_SIZE_M, required=False),
+    "width": number(*SECTION_SIZE_M, required=False),
+    "height": number(*SECTION_SIZE_M, required=False),
+    "wall_thickness": number(*WALL_M),
 })
-_NONNEG3 = Field("vec3", 0.0)
+_NONNEG3 = Field("vec3", 0.0, SPRING_MAX)
 
 STRUCTURE_SCHEMA = Field("mapping", fields={
     "component": Field("str"),
     "description": Field("str", required=False, default=""),
     "damping_ratio": _DAMPING,
-    "placement": Field("mapping", fields={"origin": Field("vec3")}),
+    "placement": Field("mapping", fields={"origin": _POINT}),
     "materials": Field("mapping", extra=True, item=_MATERIAL, fields={}),
     "sections": Field("mapping", extra=True, item=_SECTION, fields={}),
-    "nodes": Field("mapping", extra=True, item=Field("vec3"), fields={}),
+    "nodes": Field("mapping", extra=True, item=_POINT, fields={}),
     "mesh": Field("mapping", fields={
-        "max_element_length": positive(help="element length > 0 [m]")}),
+        "max_element_length": number(1e-4, COMPONENT_SIZE_M, help="element length [m]")}),
     "members": Field("list", min_items=1, item=Field("mapping", fields={
         "from": Field("str"), "to": Field("str"), "section": Field("str"),
         "material": Field("str"),
-        "up": Field("vec3", required=False, default=None),
+        "up": _DIRECTION,
     })),
     "rigid_links": Field("list", required=False, default=[], item=Field("mapping", fields={
         "master": Field("str"), "slave": Field("str"),
@@ -70,14 +86,14 @@ STRUCTURE_SCHEMA = Field("mapping", fields={
     "springs": Field("list", required=False, default=[], item=Field("mapping", fields={
         "from": Field("str"), "to": Field("str"),
         "k_translation": _NONNEG3, "k_rotation": _NONNEG3,
-        "axis_z": Field("vec3", required=False, default=None),
+        "axis_z": _DIRECTION,
     })),
     "rigid_parts": Field("mapping", required=False, default={}, extra=True,
                          fields={}, item=Field("mapping", fields={
                              "node": Field("str"),
-                             "mass": positive(help="mass > 0 [kg]"),
-                             "cg": Field("vec3"),
-                             "inertia": Field("vec3", 0.0, open_low=True),
+                             "mass": positive(PART_MASS_MAX_KG, help="mass [kg]"),
+                             "cg": _POINT,
+                             "inertia": Field("vec3", 0.0, PART_INERTIA_MAX, open_low=True),
                          })),
     "interfaces": Field("mapping", fields={
         "loaded_end": Field("str"),
@@ -102,6 +118,8 @@ def load_component_config(path):
         if 2 * t["wall_thickness"] >= t["outer_diameter"]:
             raise ConfigError(path, "tube.wall_thickness", "must be less than half the outer "
                                                            "diameter")
+        check_limit("dofs", 6 * (cfg["elements"] + 1), path, "elements",
+                    f"{cfg['elements']} elements")
     return cfg
 
 
@@ -141,6 +159,7 @@ def _add_members(s, cfg, names, source):
     materials = {k: Material(v["E"], v["G"], v["rho"]) for k, v in cfg["materials"].items()}
     sections = {k: _section(v, source, f"sections.{k}") for k, v in cfg["sections"].items()}
     max_len = cfg["mesh"]["max_element_length"]
+    ends, counts = [], []
     for i, mem in enumerate(cfg["members"]):
         key = f"members[{i}]"
         n1 = _lookup(names, mem["from"], source, f"{key}.from", "node")
@@ -148,10 +167,17 @@ def _add_members(s, cfg, names, source):
         length = np.linalg.norm(s.nodes[n2] - s.nodes[n1])
         if length < 1e-6:
             raise ConfigError(source, f"{key}.to", "member has zero length")
+        ends.append((n1, n2))
+        counts.append(max(1, math.ceil(length / max_len - 1e-9)))
+    # sized before anything is meshed: each element adds one node (6 DOFs) inside its member
+    dofs = 6 * (len(s.nodes) + sum(counts) - len(counts))
+    check_limit("dofs", dofs, source, "mesh.max_element_length",
+                f"the mesh of max_element_length {max_len:g} m ({sum(counts)} elements)")
+    for i, (mem, (n1, n2), count) in enumerate(zip(cfg["members"], ends, counts)):
+        key = f"members[{i}]"
         sec = _lookup(sections, mem["section"], source, f"{key}.section", "section")
         mat = _lookup(materials, mem["material"], source, f"{key}.material", "material")
         up = mem["up"] if mem["up"] is not None else _default_up(s.nodes[n2] - s.nodes[n1])
-        count = max(1, math.ceil(length / max_len - 1e-9))
         s.add_member(n1, n2, count, sec, mat, up=up)
 
 

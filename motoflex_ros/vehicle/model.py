@@ -240,16 +240,32 @@ def _joint(name, spec, bodies, source):
                  spec["damping"], axis2, bool(spec["locked"]))
 
 
-def _static_loads(bodies, wheel_specs, gravity):
-    """Static vertical wheel loads [N] of a two-wheeler from the moment balance in x-z."""
+MIN_WHEELBASE_M = 0.1
+"""Smallest distance [m] in x between the wheel centres (the wheel loads divide by it)."""
+
+
+def _static_loads(bodies, wheel_specs, gravity, source="<dict>"):
+    """Static vertical wheel loads [N] of a two-wheeler from the moment balance in x-z;
+    ConfigError when the wheels are (nearly) at one x or a load is not positive."""
     masses = [(b.mass, b.com[0]) for b in bodies.values()]
     masses += [(w["mass"], w["centre"][0]) for w in wheel_specs.values()]
     weight = gravity * sum(m for m, _ in masses)
     moment = gravity * sum(m * x for m, x in masses)
     (name_a, wa), (name_b, wb) = wheel_specs.items()
     xa, xb = wa["centre"][0], wb["centre"][0]
+    if abs(xb - xa) < MIN_WHEELBASE_M:
+        raise ConfigError(source, f"wheels.{name_b}.centre",
+                          f"the wheel centres are {abs(xb - xa):.3g} m apart in x; allowed: at "
+                          f"least {MIN_WHEELBASE_M:g} m (the wheelbase)")
     load_b = (moment - weight * xa) / (xb - xa)
-    return {name_a: weight - load_b, name_b: load_b}
+    loads = {name_a: weight - load_b, name_b: load_b}
+    for name, load in loads.items():
+        if not load > 0.0:
+            raise ConfigError(source, "bodies", f"the static load on wheel '{name}' is "
+                                                f"{load:.4g} N: the centre of mass "
+                                                f"({moment / weight:.4g} m in x) is not "
+                                                f"between the wheel centres")
+    return loads
 
 
 def _wheels(spec, bodies, source, gravity):
@@ -261,7 +277,7 @@ def _wheels(spec, bodies, source, gravity):
         return ()
     if len(specs) != 2:
         raise ConfigError(source, "wheels", f"expected 2 wheels, got {len(specs)}")
-    loads = _static_loads(bodies, specs, gravity)
+    loads = _static_loads(bodies, specs, gravity, source)
     wheels = []
     for name, w in specs.items():
         key = f"wheels.{name}"

@@ -143,6 +143,9 @@ def tyre_from_config(spec, source, key, fz, crown_radius):
                           f"missing Magic Formula coefficient (required: {', '.join(missing)})")
     tyre = mf_linearized(spec, fz, crown_radius)
     if tyre.k_alpha <= 0.0:
-        raise ConfigError(source, f"{key}.pky1", "cornering stiffness at the static load "
-                                                 f"is {tyre.k_alpha:g} N/rad; must be > 0")
+        raise ConfigError(source, f"{key}.pky1", f"cornering stiffness at the static load "
+                                                 f"Fz = {fz:.4g} N (Fz0 {spec['Fz0']:g} N; "
+                                                 f"the load comes from the bodies' masses and "
+                                                 f"the wheel positions) is {tyre.k_alpha:g} "
+                                                 f"N/rad; must be > 0")
     return tyre

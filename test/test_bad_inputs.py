@@ -1,0 +1,420 @@
+"""Inputs that once crashed or ran away (issue 13, point 5), and more of the same kind.
+
+Each case runs the real command in a fresh process on a file written for it and must: exit
+non-zero, print no traceback, name the file (or the command line / node) and the key, end
+within 5 s of computing (a hang guard: the work is sized before it starts; see run_guarded)
+and leave no output file.
+"""
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+
+from motoflex_ros.config import config_path
+
+HANG_GUARD_S = 5.0  # [s] of the command's CPU time
+WALL_GUARD_S = 60.0  # [s]
+CLI = [sys.executable, "-m", "motoflex_ros.cli.main"]
+NODE = [sys.executable, "-m", "motoflex_ros.nodes.vehicle_simulator", "--ros-args"]
+
+
+def shipped(kind, name, *edits):
+    """The text of a shipped config with each (old, new) replacement made (old must occur)."""
+    text = config_path(kind, name).read_text()
+    for old, new in edits:
+        assert old in text, (kind, name, old)
+        text = text.replace(old, new, 1)
+    return text
+
+
+def with_value(kind, name, keys, value):
+    """The YAML of a shipped config with the value at ``keys`` (a path of mapping keys) set."""
+    import yaml
+    data = yaml.safe_load(config_path(kind, name).read_text())
+    node = data
+    for key in keys[:-1]:
+        node = node[key]
+    assert keys[-1] in node, (kind, name, keys)
+    node[keys[-1]] = value
+    return yaml.safe_dump(data)
+
+
+def ref(name):
+    """The placeholder of a written file's path in a case's argv."""
+    return "{" + name + "}"
+
+
+def params(**values):
+    """A vehicle_simulator params file."""
+    lines = "".join(f"    {k}: {v}\n" for k, v in values.items())
+    return f"vehicle_simulator:\n  ros__parameters:\n{lines}"
+
+
+@dataclass(frozen=True)
+class Case:
+    """argv (``{name}`` replaced by the path of the written file ``name``), files {name: text
+    or bytes}, what the message must name: the file (or 'command line'/node) and the key."""
+
+    argv: tuple
+    files: dict = field(default_factory=dict)
+    where: str = ""
+    key: str = ""
+    node: bool = False
+
+
+TUBE = "tube.yaml"
+FRAME = "frame.yaml"
+PROTO = "protocol.yaml"
+VEHICLE = "vehicle.yaml"
+
+
+def tube(*edits):
+    return {TUBE: shipped("components", "tube", *edits)}
+
+
+def frame(*edits):
+    return {FRAME: shipped("components", "frame", *edits)}
+
+
+def protocol(*edits):
+    return {PROTO: shipped("protocols", "default", *edits)}
+
+
+def vehicle(*edits):
+    return {VEHICLE: shipped("vehicles", "touring", *edits)}
+
+
+COMPONENTS = ("components", "--component")
+IDENTIFY_TUBE = ("identify", "--component", "tube", "--protocol", ref(PROTO),
+                 "--out", "{out.json}")
+EIG = ("eig", "--vehicle", ref(VEHICLE), "--speeds", "10")
+EIG_ARGS = ("eig", "--vehicle", "whipple_benchmark")
+STEEL = "steel: {E: 2.1e11, G: 8.1e10, rho: 7850}"
+
+ISSUE_CASES = {
+    # rho twice: the last won silently (f_t 78.9 instead of 74.6 Hz)
+    "duplicate_key": Case(COMPONENTS + (ref(FRAME),),
+                          frame((STEEL, "steel: {E: 2.1e11, G: 8.1e10, rho: 7850, rho: 9000}")),
+                          FRAME, "materials.steel.rho"),
+    # UnicodeDecodeError traceback
+    "binary_component": Case(COMPONENTS + ("{part.yaml}",),
+                             {"part.yaml": b"\x89PNG\r\n\x1a\n\xff\xfe\x00garbage"},
+                             "part.yaml", "UTF-8"),
+    # ZeroDivisionError traceback
+    "outer_diameter_1e6": Case(COMPONENTS + (ref(FRAME),), frame(
+        ("head: {shape: tube, outer_diameter: 0.084", "head: {shape: tube, outer_diameter: 1e6")),
+        FRAME, "sections.head.outer_diameter"),
+    # "interior stiffness is singular" without file or key
+    "E_1e300": Case(COMPONENTS + (ref(FRAME),), frame(("E: 2.1e11", "E: 1.0e300")),
+                    FRAME, "materials.steel.E"),
+    # 2.9 GB after 45 s and growing
+    "max_element_length_1e-7": Case(COMPONENTS + (ref(FRAME),), frame(
+        ("max_element_length: 0.05", "max_element_length: 1.0e-7")),
+        FRAME, "mesh.max_element_length"),
+    # identify hung; the campaign planned 13.4 million simulated seconds
+    "decay_periods_1e9": Case(IDENTIFY_TUBE, protocol(("decay_periods: 20", "decay_periods: 1e9")),
+                              PROTO, "modal.decay_periods"),
+    "campaign_decay_periods_1e9": Case(
+        ("campaign", "--components", "tube", "--protocol", ref(PROTO), "--report", "none",
+         "--out", "{bag}"), protocol(("decay_periods: 20", "decay_periods: 1e9")),
+        PROTO, "modal.decay_periods"),
+    # MemoryError tracebacks
+    "eig_speeds_1e12": Case(EIG_ARGS + ("--speeds", "1e12"), {}, "command line", "--speeds"),
+    "eig_step_1e-9": Case(EIG_ARGS + ("--range-kmh", "10", "200", "--step", "1e-9"), {},
+                          "command line", "--step"),
+    # blamed on the tyre key pky1
+    "vehicle_mass_1e300": Case(EIG, {VEHICLE: with_value(
+        "vehicles", "touring", ("bodies", "frame", "parts", "frame_engine", "mass"), 1e300)},
+        VEHICLE, "bodies.frame.parts.frame_engine.mass"),
+    # accepted: "0 speeds"
+    "speed_min_above_max": Case(("--params-file", "{p.yaml}"),
+                                {"p.yaml": params(speed_min_kmh=300.0, speed_max_kmh=100.0)},
+                                "vehicle_simulator", "speed_min_kmh", node=True),
+    # RCLError tracebacks
+    "params_file_missing": Case(("--params-file", "{missing.yaml}"), {}, "missing.yaml",
+                                "not found", node=True),
+    "params_file_garbage": Case(("--params-file", "{p.yaml}"), {"p.yaml": b"\x00\x01garbage: ["},
+                                "p.yaml", "not valid YAML", node=True),
+    # traceback
+    "result_file_missing": Case(("-p", "result_file:={missing.json}"), {}, "missing.json",
+                                "result_file", node=True),
+}
+
+MORE_CASES = {
+    "duplicate_top_level_key": Case(COMPONENTS + (ref(TUBE),),
+                                    tube(("elements: 20", "elements: 20\nelements: 40")),
+                                    TUBE, "elements"),
+    "yaml_syntax_error": Case(COMPONENTS + (ref(TUBE),),
+                              tube(("elements: 20", "elements: [20")), TUBE, "line"),
+    "empty_file": Case(COMPONENTS + (ref(TUBE),), {TUBE: "# nothing\n"}, TUBE, "empty"),
+    "nul_character": Case(COMPONENTS + (ref(TUBE),), {TUBE: "component: tube\x00\n"},
+                          TUBE, "not valid YAML"),
+    "file_too_large": Case(COMPONENTS + (ref(TUBE),),
+                           {TUBE: "component: tube\n" + "# padding\n" * 200_000}, TUBE,
+                           "too large"),
+    "integer_with_400_digits": Case(COMPONENTS + (ref(TUBE),),
+                                    tube(("E: 2.1e11", "E: 1" + "0" * 400)), TUBE, "material.E"),
+    "tube_length_1e6": Case(COMPONENTS + (ref(TUBE),),
+                            tube(("length: 0.6", "length: 1.0e6")), TUBE, "tube.length"),
+    "wall_thickness_1e300": Case(COMPONENTS + (ref(TUBE),),
+                                 tube(("wall_thickness: 0.002", "wall_thickness: 1.0e300")), TUBE,
+                                 "tube.wall_thickness"),
+    "tube_elements_dof_limit": Case(COMPONENTS + (ref(TUBE),),
+                                    tube(("elements: 20", "elements: 100000")), TUBE, "elements"),
+    "mesh_dof_limit": Case(COMPONENTS + (ref(FRAME),), frame(
+        ("max_element_length: 0.05", "max_element_length: 1.0e-4")), FRAME,
+        "mesh.max_element_length"),
+    "spring_1e300": Case(COMPONENTS + (ref(FRAME),), frame(
+        ("k_translation: [1.0e8, 2.392e7", "k_translation: [1.0e300, 2.392e7")), FRAME,
+        "springs[0].k_translation[0]"),
+    "rigid_part_mass_1e300": Case(COMPONENTS + (ref(FRAME),), frame(
+        ("mass: 11.8", "mass: 1.0e300")), FRAME, "rigid_parts.tank.mass"),
+    "node_coordinate_1e300": Case(COMPONENTS + (ref(FRAME),), frame(
+        ("steering_head: [0.6216", "steering_head: [1.0e300")), FRAME, "nodes.steering_head[0]"),
+    "component_is_a_directory": Case(COMPONENTS + ("{dir.yaml}",), {"dir.yaml/x": "a: 1"},
+                                     "dir.yaml", "not found"),
+    "protocol_duplicate_key": Case(IDENTIFY_TUBE, protocol(
+        ("force_n: 100.0", "force_n: 100.0\n  force_n: 200.0")), PROTO, "static.force_n"),
+    "protocol_top_level_list": Case(IDENTIFY_TUBE, {PROTO: "- 1\n- 2\n"}, PROTO, "top level"),
+    "hold_time_1e9": Case(IDENTIFY_TUBE, protocol(("hold_time_s: 0.4", "hold_time_s: 1.0e9")),
+                          PROTO, "static.hold_time_s"),
+    "sample_rate_1e300": Case(IDENTIFY_TUBE, protocol(
+        ("sample_rate_hz: 1000.0", "sample_rate_hz: 1.0e300")), PROTO, "static.sample_rate_hz"),
+    "decay_samples_limit": Case(IDENTIFY_TUBE, protocol(("decay_periods: 20",
+                                                         "decay_periods: 90000")),
+                                PROTO, "modal.decay_periods"),
+    "simulated_time_limit": Case(IDENTIFY_TUBE, protocol(("max_periods: 40", "max_periods: 9000")),
+                                 PROTO, "harmonic.max_periods"),
+    "sweep_step_1e-6": Case(IDENTIFY_TUBE, protocol(("step_hz: 10.0", "step_hz: 1.0e-6")),
+                            PROTO, "sweep.step_hz"),
+    # found by trying every number of the shipped files at its allowed bounds
+    "preload_1e-300": Case(IDENTIFY_TUBE, protocol(("preload_n: 300.0", "preload_n: 1.0e-300")),
+                           PROTO, "modal.preload_n"),
+    "onset_beat_cycles_1000": Case(IDENTIFY_TUBE, protocol(("onset_beat_cycles: 4.0",
+                                                            "onset_beat_cycles: 1000.0")),
+                                   PROTO, "harmonic.onset_beat_cycles"),
+    "tyre_Fz0_1e-300": Case(EIG, vehicle(("Fz0: 1600.0", "Fz0: 1.0e-300")), VEHICLE,
+                            "wheels.rear.tyre.Fz0"),
+    "vehicle_duplicate_key": Case(EIG, vehicle(("gravity: 9.81", "gravity: 9.81\ngravity: 1.6")),
+                                  VEHICLE, "gravity"),
+    "vehicle_gravity_1e300": Case(EIG, vehicle(("gravity: 9.81", "gravity: 1.0e300")), VEHICLE,
+                                  "gravity"),
+    "wheel_radius_1e300": Case(EIG, vehicle(("radius: 0.300", "radius: 1.0e300")), VEHICLE,
+                               "wheels.front.radius"),
+    "tyre_Fz0_1e300": Case(EIG, vehicle(("Fz0: 1100.0", "Fz0: 1.0e300")), VEHICLE,
+                           "wheels.front.tyre.Fz0"),
+    "wheels_at_one_x": Case(EIG, vehicle(("centre: [1.485, 0.0, 0.300]",
+                                          "centre: [0.0, 0.0, 0.300]")), VEHICLE,
+                            "wheels.rear.centre"),
+    "binary_vehicle": Case(EIG, {VEHICLE: bytes(range(256))}, VEHICLE, "UTF-8"),
+    "eig_top_speed": Case(EIG_ARGS + ("--range-kmh", "10", "2000", "--step", "1"), {},
+                          "command line", "--range-kmh"),
+    "eig_many_speeds": Case(EIG_ARGS + ("--speeds",) + ("1",) * 10_001, {}, "command line",
+                            "--speeds"),
+    "study_step_1e-9": Case(("study", "accuracy", "--step-kmh", "1e-9", "--plot", "{plots}"), {},
+                            "command line", "--step-kmh"),
+    "identified_file_garbage": Case(("eig", "--vehicle", "touring", "--speeds", "10", "--flex",
+                                                    "static", "--identified", "{r.json}"),
+                                    {"r.json": "{\"frame\": [1, 2"}, "r.json", "not valid YAML"),
+    "bad_limit_value": Case(EIG_ARGS + ("--speeds", "10", "--limit", "speeds=-1"), {},
+                            "--limit", "speeds"),
+    "params_file_binary": Case(("--params-file", "{p.yaml}"), {"p.yaml": bytes(range(256))},
+                               "p.yaml", "UTF-8", node=True),
+    "params_file_duplicate_key": Case(("--params-file", "{p.yaml}"), {"p.yaml": params(
+        speed_min_kmh=40.0) + "    speed_min_kmh: 50.0\n"}, "p.yaml",
+        "vehicle_simulator.ros__parameters.speed_min_kmh", node=True),
+    "parameter_value_rcl_refuses": Case(("-p", "speed_min_kmh:=[1, a]"), {}, "ROS arguments",
+                                        "speed_min_kmh", node=True),
+    "result_file_binary": Case(("-p", "result_file:={r.json}"), {"r.json": bytes(range(256))},
+                               "r.json", "result_file", node=True),
+    "result_file_without_a_component": Case(("-p", "result_file:={r.json}"),
+                                            {"r.json": "{\"frame\": {}}"}, "r.json",
+                                            "front_assembly", node=True),
+}
+
+CASES = {**ISSUE_CASES, **MORE_CASES}
+
+
+def test_enough_cases():
+    """Every case of issue 13 point 5 and at least 20 more."""
+    assert len(ISSUE_CASES) >= 11 and len(MORE_CASES) >= 20
+
+
+@pytest.fixture
+def node_env(tmp_path_factory):
+    """A private ROS domain and log folder for the node cases (outside the case's folder)."""
+    from motoflex_ros.launcher.domain import DomainLock
+    from motoflex_ros.launcher.graph import ros_env
+    with DomainLock() as lock:
+        yield ros_env(lock.domain_id, tmp_path_factory.mktemp("ros_log"))
+
+
+def _write(folder, files):
+    for name, content in files.items():
+        path = folder / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if isinstance(content, bytes):
+            path.write_bytes(content)
+        else:
+            path.write_text(content)
+
+
+def _argv(case, folder):
+    names = {part[1:-1] for part in case.argv if part.startswith("{") and part.endswith("}")}
+    names |= {part.split("{")[1][:-1] for part in case.argv if ":={" in part}
+    out = []
+    for part in case.argv:
+        for name in names:
+            part = part.replace(ref(name), str(folder / name))
+        out.append(part)
+    return out
+
+
+def _cpu_seconds(pid):
+    """User + system CPU time [s] of a running process (Linux /proc)."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def run_guarded(cmd, env, cwd):
+    """Run ``cmd`` to its end; fail if it computes for more than HANG_GUARD_S seconds of CPU
+    (the work was not sized before it started) or lives WALL_GUARD_S (it waits for nothing).
+
+    The hang guard counts the process's own CPU time, not the wall clock: on the shared test
+    machine (two cores, several suites at once) a refusal that computes 1 s took 5 s of wall
+    time, while each case of issue 13.5 computed for minutes or without end."""
+    start = time.monotonic()
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        proc = subprocess.Popen(cmd, stdout=out, stderr=err, env=env, cwd=cwd, text=True)
+        try:
+            while proc.poll() is None:
+                cpu, wall = _cpu_seconds(proc.pid), time.monotonic() - start
+                assert cpu < HANG_GUARD_S, f"still running after {cpu:.1f} s of CPU: runs away"
+                assert wall < WALL_GUARD_S, f"still running after {wall:.0f} s: hangs"
+                time.sleep(0.05)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+        out.seek(0)
+        err.seek(0)
+        return subprocess.CompletedProcess(cmd, proc.returncode, out.read(), err.read())
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.ros) if CASES[n].node else n
+                                  for n in sorted(CASES)])
+def test_bad_input_is_refused_in_one_line(name, tmp_path, request):
+    case = CASES[name]
+    folder = tmp_path / "case"
+    folder.mkdir()
+    _write(folder, case.files)
+    before = sorted(folder.rglob("*"))
+    if case.node:
+        env = request.getfixturevalue("node_env")
+        cmd = NODE + _argv(case, folder)
+    else:
+        env = dict(os.environ)
+        cmd = CLI + _argv(case, folder)
+    result = run_guarded(cmd, env, folder)
+    output = result.stdout + result.stderr
+    assert result.returncode != 0, output
+    assert "Traceback" not in output, output
+    assert case.where in result.stderr and case.key in result.stderr, result.stderr
+    assert sorted(folder.rglob("*")) == before, "an output file was left"
+
+
+def test_limit_option_raises_and_lowers_a_limit(tmp_path):
+    """--limit NAME=VALUE (and MOTOFLEX_LIMIT_NAME) change the limit for one command."""
+    _write(tmp_path, tube())
+    base = CLI + ["components", "--component", str(tmp_path / TUBE), "--json"]
+    assert subprocess.run(base, capture_output=True, timeout=60).returncode == 0
+    lowered = subprocess.run(base + ["--limit", "dofs=100"], capture_output=True, text=True,
+                             timeout=60)
+    assert lowered.returncode == 2 and "126 DOFs" in lowered.stderr
+    assert "--limit dofs=N" in lowered.stderr and "MOTOFLEX_LIMIT_DOFS" in lowered.stderr
+    env = {**os.environ, "MOTOFLEX_LIMIT_DOFS": "100"}
+    assert subprocess.run(base, capture_output=True, timeout=60, env=env).returncode == 2
+    many = CLI + ["eig", "--vehicle", "whipple_benchmark", "--range-kmh", "10", "11", "--step",
+                  "1e-4", "--json"]
+    refused = subprocess.run(many, capture_output=True, text=True, timeout=60)
+    assert refused.returncode == 2 and "10,001 speeds" in refused.stderr
+    raised = subprocess.run(many + ["--limit", "speeds=20000"], capture_output=True, timeout=120)
+    assert raised.returncode == 0, raised.stderr
+
+
+def test_identify_out_onto_an_existing_file_needs_force(tmp_path):
+    out = tmp_path / "results.json"
+    out.write_text("{}\n")
+    cmd = CLI + ["identify", "--component", "tube", "--out", str(out), "--json"]
+    refused = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    assert refused.returncode == 2 and "--force" in refused.stderr
+    assert "Traceback" not in refused.stderr and out.read_text() == "{}\n"
+    forced = subprocess.run(cmd + ["--force"], capture_output=True, text=True, timeout=120)
+    assert forced.returncode == 0, forced.stderr
+    assert '"tube"' in out.read_text()
+
+
+@pytest.mark.parametrize("argv", [["replay", "BAG", "--identify", "OUT"],
+                                  ["rerun", "BAG", "--out", "OUT"]])
+def test_other_outputs_onto_an_existing_file_need_force(tmp_path, argv):
+    (tmp_path / "BAG").mkdir()
+    out = tmp_path / "OUT"
+    out.write_text("keep")
+    argv = [str(tmp_path / a) if a in ("BAG", "OUT") else a for a in argv]
+    result = subprocess.run(CLI + argv, capture_output=True, text=True, timeout=30)
+    assert result.returncode == 2 and "exists; give --force" in result.stderr, result.stderr
+    assert out.read_text() == "keep"
+
+
+def test_failed_campaign_leaves_no_temporary_folder_and_keeps_its_logs(tmp_path, monkeypatch):
+    """Each campaign left a motoflex_campaign_* folder in the temp directory: it is removed,
+    also on failure, when the failed run's logs are kept in its bag folder."""
+    import tempfile
+
+    from motoflex_ros.launcher import campaign
+    from motoflex_ros.launcher.run import RunFailed
+    temp = tmp_path / "tmp"
+    temp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(temp))
+    seen = []
+
+    def failing_run(specs, pacer, duration, work_dir, **kw):
+        seen.append(Path(work_dir))
+        (Path(work_dir) / "log").mkdir()
+        (Path(work_dir) / "log" / "identification.log").write_text("boom\n")
+        raise RunFailed(f"node 'identification' died; its log: "
+                        f"{Path(work_dir) / 'log' / 'identification.log'}")
+
+    monkeypatch.setattr(campaign, "run_graph", failing_run)
+    monkeypatch.setattr(campaign, "planned_duration", lambda *a: 1.0)
+    bag = tmp_path / "bag"
+    with pytest.raises(RunFailed) as info:
+        campaign.run_campaign_graph(["tube"], bag)
+    assert seen and seen[0].parent == temp and seen[0].name.startswith("motoflex_campaign_")
+    assert list(temp.iterdir()) == []
+    kept = bag / "log" / "identification.log"
+    assert kept.read_text() == "boom\n" and str(kept) in str(info.value)
+
+
+def test_successful_run_folder_is_removed(tmp_path, monkeypatch):
+    import tempfile
+
+    from motoflex_ros.launcher.run import work_folder
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    with work_folder("motoflex_run_") as folder:
+        (folder / "log").mkdir()
+        assert folder.parent == tmp_path
+    assert list(tmp_path.iterdir()) == []
+    given = tmp_path / "mine"
+    given.mkdir()
+    with work_folder("motoflex_run_", given) as folder:
+        assert folder == given
+    assert given.is_dir()   # a folder the caller gave is the caller's
