@@ -153,8 +153,8 @@ class Run:
 def assert_bag_readable(bag, started=True):
     """The bag reads as it is: every fault here leaves the recorder time to finish it (a run
     that failed before it started may have none, or an empty one)."""
-    if not started and not bag.exists():
-        return
+    if not started and not list(bag.glob("*.mcap")):
+        return      # no bag yet (a failed campaign's folder may hold only its kept node logs)
     info = mcap_bag.bag_info(bag)
     assert info.count(f"/bench/{COMPONENT}/load") > 0 or not started
 
