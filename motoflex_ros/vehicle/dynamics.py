@@ -89,7 +89,7 @@ def _loop_description(tree):
     return " and ".join(p for p in parts if p)
 
 
-def _loop_dependent(model, tree):
+def _loop_dependent(model, tree, frames):
     """Coordinates solved from the loop-closure and lock constraints (coordinate partitioning).
 
     Locked coordinates first; then, greedily, joint coordinates in order of declaration whose
@@ -99,9 +99,7 @@ def _loop_dependent(model, tree):
     ConfigError when the constraints are redundant (rank below their count): a loop that is
     over-constrained.
     """
-    n = len(tree.coordinates)
-    zero = np.zeros(n)
-    G = loop_rows(tree, frame_states(tree, zero, zero), zero).G
+    G = loop_rows(tree, frames, np.zeros(len(tree.coordinates))).G
     if G.shape[0] == 0:
         return ()
     joints = [k for k, c in enumerate(tree.coordinates) if c.group == "joint"]
@@ -153,7 +151,9 @@ def bind_elements(elements, tree):
 def build_system(model):
     """Compile a VehicleModel into a VehicleSystem and check the reference contact."""
     tree = compile_tree(model)
-    loop_dep = _loop_dependent(model, tree)
+    n = len(tree.coordinates)
+    frames = frame_states(tree, np.zeros(n), np.zeros(n))   # the reference configuration
+    loop_dep = _loop_dependent(model, tree, frames)
     ip, dp, isp, dsp, cons = _partition(tree, model.wheels, loop_dep, model.base)
     if len(cons) + len(loop_dep) != len(dsp):
         raise ModelError(f"{model.source}: {len(cons)} rolling constraints for "
@@ -162,8 +162,6 @@ def build_system(model):
     system = VehicleSystem(model, tree, tuple(ip), tuple(dp), tuple(isp), tuple(dsp),
                            tuple(cons), _state_names(tree, ip, isp, model.wheels),
                            bind_elements(model.elements, tree), loop_dep)
-    n = len(tree.coordinates)
-    frames = frame_states(tree, np.zeros(n), np.zeros(n))
     gap = loop_rows(tree, frames, np.zeros(n)).g
     if gap.size and np.max(np.abs(gap)) > 1e-9:
         raise ModelError(f"{model.source}: the loops ({_loop_description(tree)}) do not close "
@@ -225,8 +223,7 @@ def dependent_speeds(system, q, known):
     """All speeds u at coordinates q: ``known`` (n,) gives the forward speed and the
     independent speeds, the dependent ones follow from the rolling, loop and lock rows
     G u = 0."""
-    frames, contacts = _contacts(system, q, known)
-    return _solve_dependent(system, _constraint_rows(system, frames, contacts, q)[0], known)
+    return _solve_dependent(system, constraint_matrix(system, q), known)
 
 
 def _solve_dependent(system, G, known, extra=0.0):
