@@ -50,11 +50,19 @@ def _assert_same(live, offline, rel=1e-12, ci_rel=1e-12):
             assert a == b, path
 
 
+def interruptible():
+    """Give the child SIGINT's default action: a test runner started in the background of a
+    non-interactive shell ignores SIGINT, the campaign would inherit that, and the tests that
+    interrupt it would see a run that simply finished."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _campaign(tmp_path, *extra):
     env = dict(os.environ, TMPDIR=str(tmp_path), OPENBLAS_NUM_THREADS="1")
     return subprocess.Popen([sys.executable, "-m", "motoflex_ros.cli.main", "campaign",
                              "--components", COMPONENT, *extra], env=env, text=True,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            preexec_fn=interruptible)
 
 
 def _our_processes(marker):

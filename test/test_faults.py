@@ -31,6 +31,7 @@ from test_campaign_graph import (  # noqa: E402  (the campaign tests' helpers)
     _campaign,
     _our_processes,
     _wait_for_recording,
+    interruptible,
 )
 
 from motoflex_ros.launcher.status import read_status  # noqa: E402
@@ -91,7 +92,8 @@ class Run:
             self.proc = subprocess.Popen(
                 [sys.executable, "-c", FORCED_DOMAIN, str(forced_domain), "campaign",
                  "--components", COMPONENT, *args], text=True, stdout=subprocess.PIPE,
-                stderr=subprocess.PIPE, env=dict(os.environ, TMPDIR=str(tmp_path)))
+                stderr=subprocess.PIPE, env=dict(os.environ, TMPDIR=str(tmp_path)),
+                preexec_fn=interruptible)
         self.fault_at = None
         self._ended = None   # (exit code, stderr, monotonic time of the exit)
         self._waiter = threading.Thread(target=self._wait, daemon=True)
