@@ -187,32 +187,57 @@ def test_sigint_and_sigterm_to_node_fail_run(tmp_path, victim):
 
 # --- foreign publishers --------------------------------------------------------------------
 
+INTRUDER = """import os, sys, time
+import rclpy
+from rclpy.node import Node
+sys.path.insert(0, sys.argv[3])
+from test_faults import _forged
+from motoflex_ros.launcher.dds import configure_dds
+configure_dds(os.environ)   # the rig's own DDS set-up: discovery as between the run's nodes
+rclpy.init(args=[], domain_id=int(sys.argv[1]))
+node = Node("intruder")
+topic = sys.argv[2]
+msg, qos = _forged(topic)
+publisher = node.create_publisher(type(msg), topic, qos)
+while publisher.get_subscription_count() == 0:
+    time.sleep(0.05)
+time.sleep(0.2)   # the subscribers' side of the match
+publisher.publish(msg)
+print("published", flush=True)
+while True:       # stays in the graph (its node name is what the run reports) until ended
+    rclpy.spin_once(node, timeout_sec=0.5)
+"""
+
+
 class Intruder:
-    """A node of nobody's run, in a run's ROS domain."""
+    """A node of nobody's run, in a run's ROS domain: a process of its own (so that its DDS
+    set-up does not depend on what this test process ran before), publishing one forged
+    message on ``topic`` once a subscriber of the run matched it."""
 
-    def __init__(self, domain_id, name="intruder"):
-        import rclpy
-        from rclpy.node import Node
-        from rclpy.signals import SignalHandlerOptions
-        self.context = rclpy.Context()
-        rclpy.init(args=[], context=self.context, domain_id=domain_id,
-                   signal_handler_options=SignalHandlerOptions.NO)
-        self.node = Node(name, context=self.context)
+    def __init__(self, domain_id, topic):
+        self.proc = subprocess.Popen(
+            [sys.executable, "-c", INTRUDER, str(domain_id), topic,
+             str(Path(__file__).resolve().parent)],
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self._line = []
+        threading.Thread(target=lambda: self._line.append(self.proc.stdout.readline()),
+                         daemon=True).start()
 
-    def publish(self, topic, msg, qos, timeout=10.0):
-        """Publish ``msg`` once a subscriber of the run matched the publisher."""
-        publisher = self.node.create_publisher(type(msg), topic, qos)
-        deadline = time.monotonic() + timeout
-        while publisher.get_subscription_count() == 0:
-            assert time.monotonic() < deadline, f"nobody subscribes {topic}"
+    def wait_published(self, alive, hang_s=240.0):
+        """Wait until the message went out (returns True), or ``alive()`` turned false, or
+        the intruder ended (False). Discovery takes what it takes on a loaded machine: no
+        deadline but a guard against a hang."""
+        deadline = time.monotonic() + hang_s
+        while not self._line and alive() and self.proc.poll() is None:
+            assert time.monotonic() < deadline, "the intruder hangs"
             time.sleep(0.05)
-        time.sleep(0.2)   # the subscribers' side of the match
-        publisher.publish(msg)
+        return bool(self._line) and self._line[0].startswith("published")
 
     def close(self):
-        import rclpy
-        self.node.destroy_node()
-        rclpy.try_shutdown(context=self.context)
+        if self.proc.poll() is None:
+            self.proc.kill()
+        _, err = self.proc.communicate()
+        return err
 
 
 def _forged(topic):
@@ -235,22 +260,29 @@ def _forged(topic):
                          ids=["bench-and-clock", "results-and-sigterm"])
 def test_foreign_publishers_fail_runs(tmp_path, faults):
     """Two campaigns at once, each with a fault: a foreign publisher on a topic (named in the
-    message as the foreign node and the topic), or SIGTERM of the campaign itself."""
+    message as the foreign node and the topic), or SIGTERM of the campaign itself. The fault's
+    moment is when the forged message went out (discovery of a new participant is not the
+    run's reaction time)."""
     runs = Run.together(tmp_path, len(faults))
-    intruders = []
+    intruders = {}
     try:
         for run, fault in zip(runs, faults):
-            run.fault()
             if fault == "SIGTERM":
+                run.fault()
                 run.proc.send_signal(signal.SIGTERM)
             else:
-                intruders.append(Intruder(run.domain_id()))
-                intruders[-1].publish(fault, *_forged(fault))
+                intruders[fault] = Intruder(run.domain_id(), fault)
+        for run, fault in zip(runs, faults):
+            if fault in intruders:
+                published = intruders[fault].wait_published(lambda r=run: r._ended is None)
+                assert published, ("the run ended before the intruder matched it",
+                                   run._ended, intruders[fault].close())
+                run.fault()
         for run, fault in zip(runs, faults):
             run.assert_failed_cleanly("interrupted by SIGTERM" if fault == "SIGTERM" else
                                       f"foreign publisher on {fault}: node '/intruder'")
     finally:
-        for intruder in intruders:
+        for intruder in intruders.values():
             intruder.close()
 
 
@@ -260,9 +292,9 @@ def test_vehicle_simulator_takes_results_only_from_its_identification(tmp_path):
     from motoflex_ros.launcher.graph import NodeGraph, NodeSpec
     with DomainLock() as lock:
         graph = NodeGraph([NodeSpec("vehicle_simulator")], lock.domain_id, tmp_path).start()
-        intruder = Intruder(lock.domain_id)
+        intruder = Intruder(lock.domain_id, "/identification/results")
         try:
-            intruder.publish("/identification/results", *_forged("/identification/results"))
+            assert intruder.wait_published(lambda: "vehicle_simulator" not in graph.exited())
             start = time.monotonic()
             code = graph.wait("vehicle_simulator", FAULT_S)
             assert time.monotonic() - start < FAULT_S
