@@ -45,6 +45,9 @@ setup(
         "statsmodels>=0.14",
         "matplotlib>=3.8",
         "tqdm>=4.66",
+        # the engineer's own FE meshes (component: mesh): assembly and mesh formats
+        "scikit-fem>=10",
+        "meshio>=5.3",
     ],
     extras_require={
         "ros": ROS_JAZZY_WHEELS,
