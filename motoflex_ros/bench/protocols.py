@@ -26,7 +26,7 @@ from motoflex_ros.config import (
     validate,
 )
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.identify.results import MODEL_TESTS, RESULT_KEYS
+from motoflex_ros.identify.results import MEASURED_KEY, MODEL_TESTS, RESULT_KEYS
 
 __all__ = ["StaticTest", "HarmonicSettings", "HarmonicTest", "SweepTest", "ModalTest",
            "Protocol", "load_protocol", "protocol_for", "PROTOCOL_SCHEMA", "MODE_FREQUENCIES",
@@ -37,7 +37,7 @@ MODE_FREQUENCIES = ("first", "first torsion", "first bending")
 MATCH_STATIC = "match_static"
 REQUIRED_HARMONIC_TESTS = tuple(t for t in MODEL_TESTS if t != "static")
 """Harmonic tests every protocol has: the identification's torsion and bending models."""
-RESERVED_TEST_NAMES = ("static", "decay") + RESULT_KEYS
+RESERVED_TEST_NAMES = ("static", "decay") + RESULT_KEYS + (MEASURED_KEY,)
 """Names a harmonic test may not have: the plan's own tests (static, decay; the sweep's are
 sweep_00, sweep_01...) and the keys of the results; nor may a name start with 'sweep'."""
 MIN_MARKER_SPREAD_M = 1e-3

@@ -21,6 +21,7 @@ from motoflex_ros.identify.stiffness import modal_damping, modal_inertia, static
 from motoflex_ros.identify.uncertainty import LEVEL, interval, propagate
 
 __all__ = ["AxisModel", "ComponentIdentification", "identify_component", "static_model",
+           "mode_model", "harmonic_axis", "split_model", "check_positive_k", "MEASURED_KEY",
            "ResultsFile", "load_results_file", "results_source", "MODEL_TESTS", "RESULT_KEYS"]
 
 MODEL_TESTS = ("static", "torsion", "bending")
@@ -29,6 +30,9 @@ tests named 'torsion' and 'bending'."""
 RESULT_KEYS = ("k_t", "k_b", "split_identifiable", "split_problem", "ci", "sweep", "modal")
 """Keys of :meth:`ComponentIdentification.to_dict` besides the tests' own (:data:`MODEL_TESTS`
 and the other harmonic tests, by name): no test may be called like one of them."""
+MEASURED_KEY = "measured"
+"""Key of an identification of measurements (``motoflex identify --measured``) that says what
+was measured and found (tests, counts, reference); no test may be called so either."""
 
 
 class ResultsFile(dict):
@@ -133,7 +137,8 @@ def static_model(reading, q0):
     return AxisModel(values, ci, {"n_samples": reading.n_samples}), cov
 
 
-def _harmonic_axis(reading):
+def harmonic_axis(reading):
+    """(l, beta, b) of a harmonic reading: values, covariance, intervals, counts."""
     mean, cov = reading.mean()
     mean = mean.copy()
     mean[1], mean[2] = wrap_axis(mean[1], mean[2])
@@ -144,26 +149,42 @@ def _harmonic_axis(reading):
     return dict(zip(("l", "beta", "b"), map(float, mean))), cov, ci, info
 
 
-def _mode_model(reading, static_reading, mode):
-    """Torsion or bending model: axis from the peaks, k by eq. (8), J, c by eqs. (10)-(11)."""
-    values, cov, ci, info = _harmonic_axis(reading)
+def mode_model(reading, static_reading, omega_n, zeta, omega_var=0.0, zeta_var=0.0):
+    """Torsion or bending model: axis from the peaks, k by eq. (8), J, c by eqs. (10)-(11).
+
+    omega_n [rad/s] and zeta [-] of the mode; with their variances (measured, e.g. from a free
+    decay) the intervals of J and c carry them too (linear propagation: J = k / omega_n^2,
+    c = 2 zeta k / omega_n), otherwise (an eigenvalue of the model) only the one of k.
+    Returns the AxisModel and the covariance of (l, beta, b).
+    """
+    values, cov, ci, info = harmonic_axis(reading)
     force, y_st = static_reading.force, static_reading.pose[1]
     x = np.array([values["b"], y_st])
     k, var = propagate(lambda v: np.array([axis_stiffness(force, v[1], v[0])]), x,
                        np.diag([cov[2, 2], static_reading.cov[1, 1]]),
                        1e-6 * np.abs(x))
     k = float(k[0])
-    inertia = modal_inertia(k, mode.omega_n)
-    values.update(k=k, J=inertia, c=modal_damping(mode.zeta, inertia, mode.omega_n),
+    inertia = modal_inertia(k, omega_n)
+    values.update(k=k, J=inertia, c=modal_damping(zeta, inertia, omega_n),
                   f_hz=float(reading.frequency_hz))
     ci["k"] = interval(k, var[0, 0])
-    ci["J"] = [modal_inertia(v, mode.omega_n) for v in ci["k"]]
-    ci["c"] = [modal_damping(mode.zeta, modal_inertia(v, mode.omega_n), mode.omega_n)
-               for v in ci["k"]]
+    if omega_var == 0.0 and zeta_var == 0.0:
+        ci["J"] = [modal_inertia(v, omega_n) for v in ci["k"]]
+        ci["c"] = [modal_damping(zeta, modal_inertia(v, omega_n), omega_n) for v in ci["k"]]
+    else:
+        rel_k, rel_w = var[0, 0] / k**2, omega_var / omega_n**2
+        rel_z = zeta_var / zeta**2 if zeta else np.nan
+        ci["J"] = interval(inertia, inertia**2 * (rel_k + 4.0 * rel_w))
+        ci["c"] = interval(values["c"], values["c"]**2 * (rel_z + rel_k + rel_w))
     return AxisModel(values, ci, info), cov
 
 
-def _split(static, static_cov, torsion, torsion_cov, bending, bending_cov):
+def _mode_model(reading, static_reading, mode):
+    """Torsion or bending model of a mode of the component's model (eigenvalue, eq. 9)."""
+    return mode_model(reading, static_reading, mode.omega_n, mode.zeta)
+
+
+def split_model(static, static_cov, torsion, torsion_cov, bending, bending_cov):
     """k_t, k_b by eq. (12) with intervals; inputs (k, beta, b, beta_t, b_t, beta_b, b_b).
 
     A split that is not two positive finite springs (:func:`split_problem`) is reported as not
@@ -215,7 +236,7 @@ def _modal(modes, decay):
     return out
 
 
-def _check_positive_k(name, test, model):
+def check_positive_k(name, test, model):
     """ProtocolError unless the model's k (eq. 8) is a positive finite stiffness [N m/rad]."""
     k, bounds = model["k"], model.ci["k"]
     if not (np.isfinite(k) and k > 0.0):
@@ -242,22 +263,22 @@ def identify_component(name, readings, modes, q0):
         raise ProtocolError(f"{name}: fewer than 2 peaks read in {', '.join(empty)}; "
                             f"raise harmonic.max_periods")
     static, static_cov = static_model(readings["static"], q0)
-    _check_positive_k(name, "static", static)
+    check_positive_k(name, "static", static)
     models = {}
     for label in ("torsion", "bending"):
         models[label] = _mode_model(readings[label], readings["static"], modes.first(label))
-        _check_positive_k(name, label, models[label][0])
-    split = _split(static.values, static_cov, models["torsion"][0].values, models["torsion"][1],
-                   models["bending"][0].values, models["bending"][1])
+        check_positive_k(name, label, models[label][0])
+    split = split_model(static.values, static_cov, models["torsion"][0].values,
+                        models["torsion"][1], models["bending"][0].values, models["bending"][1])
     sweep, others = [], {}
     for test, r in readings.items():
         if getattr(r, "n_peaks", 1) == 0:
             continue
         if getattr(r, "kind", None) == "sweep":
-            values, _, ci, info = _harmonic_axis(r)
+            values, _, ci, info = harmonic_axis(r)
             sweep.append(AxisModel({"f_hz": float(r.frequency_hz), **values}, ci, info))
         elif getattr(r, "kind", None) == "harmonic" and test not in models:
-            values, _, ci, info = _harmonic_axis(r)
+            values, _, ci, info = harmonic_axis(r)
             others[test] = AxisModel({"f_hz": float(r.frequency_hz), **values}, ci, info)
     return ComponentIdentification(name, static, models["torsion"][0], models["bending"][0],
                                    split, tuple(sweep), _modal(modes, readings.get("decay")),

@@ -1,0 +1,135 @@
+"""The bench file of a real rig (YAML): what the measured identification needs besides the data.
+
+A physical bench has no finite-element model: the identification of measurements
+(:mod:`motoflex_ros.identify.measured`) takes the geometry from this file, with exactly these
+keys::
+
+    bench: my_swingarm
+    loaded_end: [0.60, 0.0, 0.0]      # q0 [m], clamp frame, unloaded
+    markers: from_data                 # or [[dx, dy, dz], ...] offsets from q0 [m]
+    sensor: {noise_m: 5.0e-6, latency_s: 0.0}
+
+``bench`` names the component (results are filed under it; the default topic names of a bag
+or a live rig are ``/bench/<bench>/load`` and ``/bench/<bench>/markers/measured``). The
+clamp frame is the paper's component frame (Passigato et al. 2023, Fig. 2): clamp at the
+origin O, the component's plane x-z, the lateral load along y. ``markers``: the marker offsets
+from q0 with the component unloaded, in the order of the data's markers, or ``from_data``:
+their mean positions over the samples before the first load (a quiet lead-in of at least
+:data:`MIN_REFERENCE_FRAMES` frames). ``sensor.noise_m`` [m]: the marker noise (standard
+deviation per coordinate; used to tell a motion from noise, never for the intervals, which come
+from the scatter of the data); ``sensor.latency_s`` [s]: how much later than the capture a
+marker frame is stamped (CSV ``t``, message header stamps).
+"""
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from motoflex_ros.config import Field, load_yaml, number, validate
+from motoflex_ros.errors import ConfigError
+
+__all__ = ["BenchFile", "load_bench", "bench_from_dict", "check_marker_spread", "FROM_DATA",
+           "MIN_REFERENCE_FRAMES", "MIN_MARKERS", "MAX_NOISE_M", "MIN_ARM_M",
+           "MIN_MARKER_SPREAD_M", "BENCH_SCHEMA"]
+
+FROM_DATA = "from_data"
+MIN_MARKERS = 3
+MIN_REFERENCE_FRAMES = 10
+"""Frames before the first load that ``markers: from_data`` needs for the reference (their
+mean; its scatter enters the static intervals)."""
+MAX_NOISE_M = 1e-3  # as the virtual sensor's bound (motoflex_ros.bench.sensor.MAX_NOISE_M)
+MAX_SIZE_M = 10.0
+MIN_ARM_M = 1e-3
+"""Smallest distance [m] of q0 from the clamp in the x-z plane: the line O-q0 of eqs. (3)-(7)
+must be defined."""
+MIN_MARKER_SPREAD_M = 1e-3
+"""Smallest spread [m] of the markers across their best-fit line (second singular value of the
+centred positions), as a protocol's markers (:data:`motoflex_ros.bench.protocols.
+MIN_MARKER_SPREAD_M`): collinear markers leave the rotation about their line unobserved."""
+_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+
+BENCH_SCHEMA = Field("mapping", fields={
+    "bench": Field("str", help="the component's name: a letter, then letters, digits or _"),
+    "loaded_end": Field("vec3", -MAX_SIZE_M, MAX_SIZE_M,
+                        help="q0 [m], clamp frame, unloaded: [x, y, z]"),
+    "markers": Field("any", help=f"'{FROM_DATA}' or a list of >= {MIN_MARKERS} offsets "
+                                 f"[dx, dy, dz] from q0 [m]"),
+    "sensor": Field("mapping", help="{noise_m, latency_s}", fields={
+        "noise_m": number(0.0, MAX_NOISE_M, help=f"marker noise std [m] in [0, "
+                                                 f"{MAX_NOISE_M:g}]"),
+        "latency_s": number(0.0, 1.0, help="stamp minus capture time [s] in [0, 1]"),
+    }),
+})
+
+
+@dataclass(frozen=True)
+class BenchFile:
+    """A validated bench file: name, q0 [m], marker offsets (n, 3) [m] or None (from the data),
+    noise_m [m], latency_s [s] and the file it came from."""
+
+    name: str
+    q0: np.ndarray
+    offsets: object
+    noise_m: float
+    latency_s: float
+    source: str = "bench file"
+
+    @property
+    def n_markers(self):
+        """Number of markers the file gives (None: taken from the data)."""
+        return None if self.offsets is None else len(self.offsets)
+
+
+def check_marker_spread(points, source, key, what="the markers"):
+    """ConfigError unless the centred ``points`` (n, 3) [m] span a plane (second singular value
+    at least MIN_MARKER_SPREAD_M); returns the spread [m]."""
+    points = np.asarray(points, float)
+    spread = float(np.linalg.svd(points - points.mean(axis=0), compute_uv=False)[1])
+    if not spread >= MIN_MARKER_SPREAD_M:
+        raise ConfigError(source, key, f"{what} are collinear or coincident (second singular "
+                                       f"value of the centred positions {spread:.3g} m, allowed "
+                                       f">= {MIN_MARKER_SPREAD_M:g} m); the rotation about "
+                                       f"their line cannot be measured: place at least three "
+                                       f"markers that span a plane")
+    return spread
+
+
+def _markers(value, source):
+    if value == FROM_DATA:
+        return None
+    if not isinstance(value, list):
+        raise ConfigError(source, "markers", f"expected '{FROM_DATA}' or a list of >= "
+                                             f"{MIN_MARKERS} offsets [dx, dy, dz] [m], got "
+                                             f"{value!r}")
+    if len(value) < MIN_MARKERS:
+        raise ConfigError(source, "markers", f"expected at least {MIN_MARKERS} markers (a "
+                                             f"rigid fit needs three that span a plane), got "
+                                             f"{len(value)}")
+    vec = Field("vec3", -MAX_SIZE_M, MAX_SIZE_M)
+    offsets = np.array([validate(v, vec, source, f"markers[{i}]") for i, v in enumerate(value)])
+    check_marker_spread(offsets, source, "markers")
+    return offsets
+
+
+def bench_from_dict(data, source="bench file"):
+    """BenchFile of a mapping with the bench file's keys (validated; ConfigError naming the
+    source and the key)."""
+    data = validate(data, BENCH_SCHEMA, source)
+    if not _NAME.match(data["bench"]):
+        raise ConfigError(source, "bench", f"'{data['bench']}' is not a name: a letter, then "
+                                           f"letters, digits or _ (it names the results and the "
+                                           f"topics /bench/<bench>/...)")
+    q0 = np.array(data["loaded_end"], float)
+    arm = float(np.hypot(q0[0], q0[2]))
+    if arm < MIN_ARM_M:
+        raise ConfigError(source, "loaded_end", f"q0 {q0.tolist()} is {arm:.3g} m from the "
+                                                f"clamp in the x-z plane, allowed >= "
+                                                f"{MIN_ARM_M:g} m (the line O-q0 of eqs. 3-7)")
+    return BenchFile(data["bench"], q0, _markers(data["markers"], source),
+                     data["sensor"]["noise_m"], data["sensor"]["latency_s"], str(source))
+
+
+def load_bench(path):
+    """Load and validate a bench file (YAML) into a :class:`BenchFile`."""
+    return bench_from_dict(load_yaml(path), str(path))
+

@@ -1,0 +1,342 @@
+"""Measurements of a bench as the identification reads them: load and marker streams, the CSV
+format, and the synchronisation of the two streams by their stamps.
+
+A rig has two sensors: the load cell (a wrench per sample, stamped) and the marker sensor
+(motion capture or lasers: a set of marker positions per frame, stamped). They run at their
+own rates and clocks. :func:`synchronise` turns them into one :class:`Measurements` table, one
+row per marker frame: the frame's capture time is its stamp minus the sensor latency, and the
+load at that instant is interpolated linearly between the two load samples around it
+(approximate-time matching; a frame with no load sample close enough on both sides, in a gap of
+the load cell or outside its record, is left out and counted as unmatched). Frames missing from
+a stream are counted from its stamps (:func:`dropouts`).
+
+The CSV file has one row per sample and exactly this header::
+
+    t,test,fx,fy,fz,mx,my,mz,m1_x,m1_y,m1_z,m2_x,m2_y,m2_z,...
+
+t [s], forces [N], moments [N m], marker coordinates [m] in the clamp frame (x-z the
+component's plane, load along y), N >= 3 markers; ``test`` is a test label or empty. A row
+holds the load and the markers of one instant (the markers stamped ``latency_s`` after their
+capture, as the bench file says). Every problem is one :class:`MeasurementError` naming the
+file, the row and the column.
+"""
+import csv
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from motoflex_ros.errors import MotoflexError
+
+__all__ = ["MeasurementError", "row_text", "check_increasing", "LoadStream", "MarkerStream",
+           "Measurements", "CSV_HEAD", "marker_columns", "read_csv", "write_csv", "synchronise",
+           "dropouts", "typical_intervals", "interval_context", "MIN_MARKERS", "RATE_CHANGE",
+           "DROPOUT_FACTOR", "PAUSE_FACTOR"]
+
+CSV_HEAD = ("t", "test", "fx", "fy", "fz", "mx", "my", "mz")
+WRENCH = CSV_HEAD[2:]
+MIN_MARKERS = 3
+DROPOUT_FACTOR = 1.5   # an interval longer than 1.5 typical ones has lost frames...
+PAUSE_FACTOR = 5.0     # ... up to 5 typical ones; a longer one is a pause between tests
+BRIDGE_FACTOR = 3.5    # a load is interpolated across at most 3.5 typical load intervals
+MEDIAN_WINDOW = 9      # intervals around each one whose median is its typical interval
+RATE_CHANGE = 0.1      # sampling intervals 10 % apart: another rate
+MAX_CSV_BYTES = 2_000_000_000
+
+
+class MeasurementError(MotoflexError):
+    """Measured data the identification cannot use; the message names the file, the row (or
+    message) and the column (or field)."""
+
+    def __init__(self, source, problem, row=None, column=None, unit="row"):
+        where = str(source)
+        if row == 0:
+            where += ": header"
+        elif row is not None:
+            where += f": {row_text(row, unit)}"
+        if column is not None:
+            where += f"{',' if row is not None else ':'} column '{column}'"
+        self.source, self.row, self.column = str(source), row, column
+        super().__init__(f"{where}: {problem}")
+
+
+def row_text(row, unit="row"):
+    """'row 5 (line 6)' of data row 5 of a CSV file (the header is line 1), else 'message 5'."""
+    return f"row {row} (line {row + 1})" if unit == "row" else f"{unit} {row}"
+
+
+def marker_columns(n):
+    """CSV column names m1_x, m1_y, m1_z, ... of ``n`` markers."""
+    return [f"m{i}_{axis}" for i in range(1, n + 1) for axis in "xyz"]
+
+
+@dataclass(frozen=True)
+class LoadStream:
+    """Load-cell samples: stamps t (n,) [s] and wrenches (n, 6) [N, N m] (fx, fy, fz, mx, my,
+    mz at the loaded end, clamp frame); ``rows`` the sample's row or message number."""
+
+    t: np.ndarray
+    wrench: np.ndarray
+    source: str = "loads"
+    rows: np.ndarray = None
+    row_unit: str = "row"
+
+
+@dataclass(frozen=True)
+class MarkerStream:
+    """Marker frames: stamps t (n,) [s] and positions (n, N, 3) [m] (clamp frame)."""
+
+    t: np.ndarray
+    markers: np.ndarray
+    source: str = "markers"
+    rows: np.ndarray = None
+    row_unit: str = "row"
+
+
+@dataclass(frozen=True)
+class Measurements:
+    """Synchronised measurements, one row per marker frame: capture time t (n,) [s], the load
+    at that time (n, 6) [N, N m], the markers (n, N, 3) [m], test labels (n,) ('' none),
+    the source row or message of each frame and counts of what the synchronisation found
+    (frames, dropped and unmatched ones)."""
+
+    source: str
+    t: np.ndarray
+    wrench: np.ndarray
+    markers: np.ndarray
+    labels: tuple
+    rows: np.ndarray
+    counts: dict = field(default_factory=dict)
+    row_unit: str = "row"
+
+    @property
+    def n_markers(self):
+        """Markers per frame."""
+        return self.markers.shape[1]
+
+    @property
+    def force(self):
+        """Lateral load F_y (n,) [N]."""
+        return self.wrench[:, 1]
+
+    def where(self, i):
+        """'row R (line L)' (CSV) or 'message M' (a bag's or a live rig's marker message) of
+        frame i."""
+        return row_text(int(self.rows[i]), self.row_unit)
+
+
+def typical_intervals(t):
+    """Median of the MEDIAN_WINDOW intervals around each interval of the stamps t (n,) [s];
+    (n - 1,)."""
+    dt = np.diff(np.asarray(t, float))
+    if len(dt) == 0:
+        return dt
+    half = MEDIAN_WINDOW // 2
+    padded = np.pad(dt, half, mode="edge")
+    windows = np.lib.stride_tricks.sliding_window_view(padded, MEDIAN_WINDOW)
+    return np.median(windows, axis=1)
+
+
+def interval_context(t):
+    """Per interval of the stamps t (n,) [s]: its length and the medians of the four intervals
+    before and of the four after it (its own length where there are none); three (n - 1,)."""
+    import warnings
+    dt = np.diff(np.asarray(t, float))
+    if len(dt) == 0:
+        return dt, dt, dt
+    pad = np.full(4, np.nan)
+    windows = np.lib.stride_tricks.sliding_window_view(np.r_[pad, dt, pad], 4)
+    with warnings.catch_warnings():   # all-NaN windows at the ends: replaced below
+        warnings.simplefilter("ignore", RuntimeWarning)
+        before = np.nanmedian(windows[:len(dt)], axis=1)      # dt[i-4:i]
+        after = np.nanmedian(windows[5:5 + len(dt)], axis=1)  # dt[i+1:i+5]
+    return dt, np.where(np.isnan(before), dt, before), np.where(np.isnan(after), dt, after)
+
+
+def dropouts(t):
+    """Samples missing from stamps t [s]: an interval of 1.5 to 5 typical intervals (the
+    sampling rate the same before and after it, within RATE_CHANGE) has lost
+    round(interval / typical) - 1 samples; a longer one, or one where the rate changes, is a
+    pause between tests."""
+    dt, before, after = interval_context(t)
+    if len(dt) < 3:
+        return 0
+    typical = np.minimum(before, after)
+    ratio = dt / typical
+    same_rate = np.abs(after / before - 1.0) <= RATE_CHANGE
+    lost = (ratio > DROPOUT_FACTOR) & (ratio <= PAUSE_FACTOR) & same_rate
+    return int(np.sum(np.rint(ratio[lost]) - 1))
+
+
+def check_increasing(t, source, rows, column="t", unit="row"):
+    """MeasurementError at the first stamp t [s] that is not after the one before."""
+    bad = np.flatnonzero(np.diff(t) <= 0.0)
+    if len(bad):
+        i = int(bad[0]) + 1
+        raise MeasurementError(source, f"t = {t[i]:.9g} s is not after the previous "
+                                       f"{t[i - 1]:.9g} s (time must increase from {unit} to "
+                                       f"{unit})", int(rows[i]), column, unit)
+
+
+def synchronise(loads, markers, latency_s=0.0, labels=None):
+    """Measurements at the marker frames' capture times (stamp - latency_s [s]).
+
+    The load at each frame is interpolated between the load samples around it (exact where a
+    load stamp equals the capture time); frames outside the load record or in a gap of more
+    than BRIDGE_FACTOR typical load intervals are unmatched (left out, counted). ``labels``:
+    per marker frame, or None.
+    """
+    tl, wl = np.asarray(loads.t, float), np.asarray(loads.wrench, float)
+    tc = np.asarray(markers.t, float) - float(latency_s)
+    n = len(tc)
+    j = np.searchsorted(tl, tc, side="right") - 1
+    exact = (j >= 0) & (tl[np.clip(j, 0, len(tl) - 1)] == tc)
+    inside = (j >= 0) & (j < len(tl) - 1)
+    ok = exact.copy()
+    wrench = np.zeros((n, 6))
+    wrench[exact] = wl[j[exact]]
+    if len(tl) >= 2:
+        typical = typical_intervals(tl)
+        jj = np.clip(j, 0, len(tl) - 2)
+        gap = tl[jj + 1] - tl[jj]
+        bridge = inside & ~exact & (gap <= BRIDGE_FACTOR * typical[jj])
+        w = ((tc - tl[jj]) / np.where(gap > 0, gap, 1.0))[bridge]
+        wrench[bridge] = (1.0 - w)[:, None] * wl[jj[bridge]] + w[:, None] * wl[jj[bridge] + 1]
+        ok |= bridge
+    rows = markers.rows if markers.rows is not None else np.arange(1, n + 1)
+    keep = np.flatnonzero(ok)
+    labels = tuple(labels[i] for i in keep) if labels is not None else ("",) * len(keep)
+    counts = {"marker_frames": n, "load_samples": len(tl), "frames": len(keep),
+              "unmatched_frames": int(n - len(keep)),
+              "dropped_marker_frames": dropouts(markers.t),
+              "dropped_load_samples": dropouts(tl)}
+    return Measurements(f"{markers.source} + {loads.source}", tc[keep], wrench[keep],
+                        np.asarray(markers.markers, float)[keep], labels,
+                        np.asarray(rows)[keep], counts, markers.row_unit)
+
+
+# --- CSV -----------------------------------------------------------------------------------
+
+def _check_header(header, source):
+    """Number of markers of a CSV header, or MeasurementError naming the column."""
+    header = [h.strip() for h in header]
+    if header and header[0].startswith("\ufeff"):
+        header[0] = header[0][1:]
+    allowed = ",".join(CSV_HEAD) + ",m1_x,m1_y,m1_z,m2_x,..."
+    for i, name in enumerate(CSV_HEAD):
+        if i >= len(header) or header[i] != name:
+            problem = ("missing" if name not in header else
+                       f"expected as column {i + 1}, found '{header[i]}' there")
+            raise MeasurementError(source, f"{problem} (the header must be exactly {allowed}, "
+                                           f"N >= {MIN_MARKERS} markers)", 0, name)
+    rest = header[len(CSV_HEAD):]
+    n = math.ceil(len(rest) / 3)
+    for i, name in enumerate(marker_columns(n)):
+        if i >= len(rest) or rest[i] != name:
+            found = f"found '{rest[i]}'" if i < len(rest) else "missing"
+            raise MeasurementError(source, f"{found} where column {len(CSV_HEAD) + i + 1} "
+                                           f"must be '{name}' (marker columns m1_x,m1_y,m1_z,"
+                                           f"m2_x,... in order)", 0, name)
+    if n < MIN_MARKERS:
+        raise MeasurementError(source, f"{n} marker(s) in the header, at least {MIN_MARKERS} "
+                                       f"needed (m1_* to m{MIN_MARKERS}_*): a rigid fit of "
+                                       f"the loaded end needs three markers that span a plane",
+                               0, f"m{n + 1}_x")
+    return n
+
+
+def _column(values, name, source):
+    """Floats of one CSV column (strings); MeasurementError naming the first bad row."""
+    try:
+        out = np.array(values, dtype=float)
+    except ValueError:
+        out = None
+    if out is None or not np.all(np.isfinite(out)):
+        for row, text in enumerate(values, start=2):
+            try:
+                value = float(text)
+            except ValueError:
+                value = None
+            if value is None or not math.isfinite(value):
+                shown = "empty" if not text.strip() else f"'{text.strip()}'"
+                raise MeasurementError(source, f"{shown} is not a finite number (each of t, "
+                                               f"fx..mz and the marker coordinates must be "
+                                               f"one)", row - 1, name)
+    return out
+
+
+def read_csv(path, latency_s=0.0):
+    """Measurements of a CSV file (module doc); ``latency_s`` [s] from the bench file."""
+    from pathlib import Path
+
+    from motoflex_ros.limits import check_limit
+    path = Path(path)
+    if not path.is_file():
+        raise MeasurementError(path, "file not found")
+    if path.stat().st_size > MAX_CSV_BYTES:
+        raise MeasurementError(path, f"{path.stat().st_size} bytes is larger than "
+                                     f"{MAX_CSV_BYTES} bytes")
+    try:
+        with open(path, newline="", encoding="utf-8") as stream:
+            rows = list(csv.reader(stream))
+    except UnicodeDecodeError as exc:
+        raise MeasurementError(path, f"not a text CSV file (not UTF-8 at byte {exc.start})"
+                               ) from None
+    except csv.Error as exc:
+        raise MeasurementError(path, f"not a CSV file: {exc}") from None
+    if not rows:
+        raise MeasurementError(path, "the file is empty (expected the header "
+                                     f"{','.join(CSV_HEAD)},m1_x,...)")
+    header = [h.strip() for h in rows[0]]
+    n_markers = _check_header(rows[0], path)
+    body = rows[1:]
+    while body and not any(c.strip() for c in body[-1]):
+        body.pop()   # blank lines at the end
+    if not body:
+        raise MeasurementError(path, "no data rows after the header")
+    check_limit("samples", len(body), path, "", f"the file's {len(body)} rows")
+    width = len(header)
+    for i, row in enumerate(body, start=1):
+        if len(row) != width:
+            missing = header[len(row)] if len(row) < width else None
+            problem = (f"{len(row)} fields, the header has {width}" +
+                       (f" (no value for '{missing}')" if missing else ""))
+            raise MeasurementError(path, problem, i, missing)
+    columns = list(zip(*body))
+    data = {name: _column(list(columns[k]), name, path)
+            for k, name in enumerate(header) if name != "test"}
+    t = data["t"]
+    rows_index = np.arange(1, len(body) + 1)
+    check_increasing(t, path, rows_index)
+    wrench = np.column_stack([data[c] for c in WRENCH])
+    markers = np.column_stack([data[c] for c in marker_columns(n_markers)]).reshape(
+        len(body), n_markers, 3)
+    labels = tuple(label.strip() for label in columns[1])
+    loads = LoadStream(t, wrench, str(path), rows_index)
+    frames = MarkerStream(t, markers, str(path), rows_index)
+    if latency_s == 0.0:
+        counts = {"marker_frames": len(t), "load_samples": len(t), "frames": len(t),
+                  "unmatched_frames": 0, "dropped_marker_frames": dropouts(t),
+                  "dropped_load_samples": dropouts(t)}
+        return Measurements(str(path), t, wrench, markers, labels, rows_index, counts)
+    out = synchronise(loads, frames, latency_s, labels)
+    return Measurements(str(path), out.t, out.wrench, out.markers, out.labels, out.rows,
+                        out.counts)
+
+
+def write_csv(path, t, wrench, markers, labels=None):
+    """Write measurements in the CSV format (17 significant digits: read back exactly).
+
+    t (n,) [s], wrench (n, 6) [N, N m], markers (n, N, 3) [m], labels (n,) or None (empty).
+    """
+    from motoflex_ros.files import atomic_write_text
+    markers = np.asarray(markers, float)
+    n, n_markers = markers.shape[:2]
+    lines = [",".join((*CSV_HEAD, *marker_columns(n_markers)))]
+    wrench = np.asarray(wrench, float)
+    flat = markers.reshape(n, -1)
+    for i in range(n):
+        label = labels[i] if labels is not None else ""
+        numbers = ",".join(repr(float(v)) for v in (*wrench[i], *flat[i]))
+        lines.append(f"{float(t[i])!r},{label},{numbers}")
+    return atomic_write_text(path, "\n".join(lines) + "\n")
