@@ -4,6 +4,10 @@ Static test, harmonic tests at the first torsion and bending frequencies, the sw
 modal test (Passigato et al. 2023, Sect. 4.2); prints a table or, with --json, the results
 {component: {"static", "torsion", "bending", "k_t", "k_b", "sweep", ...}} (angles rad, lengths
 m, stiffness N m/rad), optionally writes them to a YAML/JSON file and the Figs. 5-7 plots.
+
+``--measured FILE --bench BENCH.yaml``: the same identification of a physical rig's
+measurements (a CSV file or a rosbag2 folder), without a finite-element model
+(:mod:`motoflex_ros.identify.measured`); the results are filed under the bench's name.
 """
 import math
 import sys
@@ -41,6 +45,20 @@ def register(subparsers):
     add_force_option(p)
     p.add_argument("--json", action="store_true", help="print the results as JSON only")
     p.add_argument("--plot", metavar="DIR", help="write the Figs. 5-7 axis plots to DIR")
+    p.add_argument("--measured", metavar="FILE",
+                   help="identify a real rig's measurements instead: a CSV file (header "
+                        "t,test,fx,fy,fz,mx,my,mz,m1_x,m1_y,m1_z,...) or a rosbag2 folder "
+                        "(WrenchStamped loads, PoseArray or per-marker PointStamped/"
+                        "PoseStamped markers); needs --bench")
+    p.add_argument("--bench", metavar="BENCH.yaml",
+                   help="bench file of --measured: bench, loaded_end, markers, sensor")
+    p.add_argument("--load-topic", metavar="TOPIC",
+                   help="--measured bag: the load cell's topic (default /bench/<bench>/load, "
+                        "else the bag's only WrenchStamped topic)")
+    p.add_argument("--markers-topic", metavar="TOPIC", action="append",
+                   help="--measured bag: the markers' PoseArray topic, or one PointStamped/"
+                        "PoseStamped topic per marker in marker order (repeat); default "
+                        "/bench/<bench>/markers/measured, else the bag's only PoseArray topic")
     p.set_defaults(func=run)
 
 
@@ -61,6 +79,9 @@ def _table(results, stream=None):
     for name, comp in results.items():
         for test in ("static", "torsion", "bending"):
             r = comp[test]
+            if r is None:   # a measured record without that test
+                rows.append([name, test, "n/a", "n/a", "n/a", "n/a", "n/a", ""])
+                continue
             rows.append([name, test, f"{r['l']:.4f}", f"{r['beta']:.4f}", f"{r['b']:.4f}",
                          _number(r["k"]), format_interval(r["ci"].get("k")),
                          f"{r.get('f_hz', 0.0):.2f}"])
@@ -85,8 +106,9 @@ def _modal_table(results, stream):
             if m is None:
                 continue
             ci = m.get("ci", {})
-            rows.append([name, label, f"{m['omega_n']:.6g}", _number(m["omega_n_decay"], ".6g"),
-                         format_interval(ci.get("omega_n_decay"), ".6g"), f"{m['zeta']:.4g}",
+            rows.append([name, label, _number(m["omega_n"], ".6g"),
+                         _number(m["omega_n_decay"], ".6g"),
+                         format_interval(ci.get("omega_n_decay"), ".6g"), _number(m["zeta"]),
                          _number(m["zeta_decay"]), format_interval(ci.get("zeta_decay"))])
     if rows:
         stream.write("\n")
@@ -94,8 +116,79 @@ def _modal_table(results, stream):
                      "zeta", "decay", "95 % interval"], rows, stream)
 
 
+def _measured_inputs(args):
+    """The Measurements and BenchFile of --measured/--bench (ConfigError naming the option
+    when one is missing or combined with the virtual bench's options)."""
+    from motoflex_ros.errors import ConfigError
+    from motoflex_ros.identify.bench_file import load_bench
+    if not args.bench:
+        raise ConfigError("command line", "--bench", "--measured needs the bench file "
+                                                     "(--bench BENCH.yaml: bench, loaded_end, "
+                                                     "markers, sensor)")
+    for option, value in (("--component", args.component), ("--protocol", args.protocol),
+                          ("--noise", args.noise)):
+        if value:
+            raise ConfigError("command line", option, f"{option} is for the virtual bench; "
+                                                      f"a measured rig has no model (give "
+                                                      f"--measured and --bench only)")
+    bench = load_bench(args.bench)
+    path = Path(args.measured)
+    if path.is_dir():
+        from motoflex_ros.record.measured_bag import read_bag
+        return read_bag(path, bench, args.load_topic, args.markers_topic), bench
+    from motoflex_ros.identify.measurements import read_csv
+    return read_csv(path, bench.latency_s), bench
+
+
+def run_measured(args):
+    """``identify --measured``: the measurements' identification; returns the exit code."""
+    from motoflex_ros.identify.measured import identify_measured
+    if args.out:
+        check_new_file(args.out, args.force)
+    data, bench = _measured_inputs(args)
+    identification = identify_measured(data, bench)
+    results = {bench.name: identification.to_dict()}
+    if args.out:
+        write_results(args.out, results)
+    if args.plot:
+        from motoflex_ros.plots.axes import plot_measured_axes
+        plot_measured_axes(bench.name, bench.q0, identification,
+                           Path(args.plot) / f"{bench.name}_axes.png")
+    if args.json:
+        emit_json(results)
+    else:
+        _table(results)
+        _measured_summary(results[bench.name]["measured"])
+        sys.stdout.flush()
+    return 0
+
+
+def _measured_summary(measured, stream=None):
+    """The tests found in the measurements and the frame counts."""
+    stream = stream or sys.stdout
+    rows = [[e["name"], e["kind"], e.get("model") or "", f"{e['t_start']:.4f}",
+             f"{e['t_end']:.4f}", f"{e['frequency_hz']:.4g}" if e["frequency_hz"] else "",
+             f"{e['amplitude_n']:.4g}", "yes" if e["used"] else "no"]
+            for e in measured["tests"]]
+    stream.write("\n")
+    print_table(["test", "kind", "model", "t start [s]", "t end [s]", "f [Hz]", "load [N]",
+                 "used"], rows, stream)
+    c = measured["counts"]
+    stream.write(f"\n{measured['frames']} frames of {measured['markers']} markers; dropped: "
+                 f"{c['dropped_marker_frames']} marker frames, {c['dropped_load_samples']} "
+                 f"load samples; unmatched: {c['unmatched_frames']}; reference: "
+                 f"{measured['reference']}\n")
+    for note in measured["notes"]:
+        stream.write(f"note: {note}\n")
+    for e in measured["tests"]:
+        if not e["used"]:
+            stream.write(f"note: {e['name']} not used: {e['note']}\n")
+
+
 def run(args):
     """Run the campaign of each component; returns the exit code."""
+    if args.measured:
+        return run_measured(args)
     from motoflex_ros.bench.campaign import identify_components
     components = args.component or list(DEFAULT_COMPONENTS)
     if args.out:

@@ -14,7 +14,7 @@ import numpy as np  # noqa: E402
 
 from motoflex_ros.plots.components import write_png_atomic  # noqa: E402
 
-__all__ = ["plot_component_axes", "axis_segment"]
+__all__ = ["plot_component_axes", "plot_measured_axes", "axis_segment"]
 
 
 def axis_segment(l, beta, q0, half_length):
@@ -41,6 +41,8 @@ def _axes(ax, identification, q0, half):
                 label="sweep" if i == 0 else None, zorder=2)
     for name, style in (("torsion", "-"), ("bending", "--")):
         m = getattr(identification, name)
+        if m is None:   # a measured record without that test
+            continue
         seg = axis_segment(m["l"], m["beta"], q0, half)
         ax.plot(seg[:, 0], seg[:, 1], style, color="#2ca02c", lw=2,
                 label=f"{name} ({m['f_hz']:.0f} Hz)", zorder=3)
@@ -61,6 +63,8 @@ def plot_component_axes(setup, identification, path):
     length = float(np.linalg.norm(q0))
     points = [xyz[:, [0, 2]]]
     for m in (identification.static, identification.torsion, identification.bending):
+        if m is None:
+            continue
         behind, ahead = axis_segment(m["l"], m["beta"], q0, 1.0)
         joint, direction = (behind + ahead) / 2.0, (ahead - behind) / 2.0
         foot = joint + np.dot(q0[[0, 2]] - joint, direction) * direction
@@ -84,3 +88,11 @@ def plot_component_axes(setup, identification, path):
     write_png_atomic(fig, path)
     plt.close(fig)
     return path
+
+
+def plot_measured_axes(name, q0, identification, path):
+    """The axes plot of an identification of measurements (no structure to draw: the clamp
+    at O and the loaded end q0 [m] only)."""
+    from types import SimpleNamespace
+    bench = SimpleNamespace(name=name, reduced=SimpleNamespace(q0=q0), component=None)
+    return plot_component_axes(bench, identification, path)
