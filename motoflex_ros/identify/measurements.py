@@ -31,7 +31,8 @@ from motoflex_ros.errors import MotoflexError
 __all__ = ["MeasurementError", "row_text", "check_increasing", "LoadStream", "MarkerStream",
            "Measurements", "CSV_HEAD", "marker_columns", "read_csv", "write_csv", "synchronise",
            "dropouts", "typical_intervals", "interval_context", "MIN_MARKERS", "RATE_CHANGE",
-           "DROPOUT_FACTOR", "PAUSE_FACTOR"]
+           "DROPOUT_FACTOR", "PAUSE_FACTOR", "frames_of_marker_sets", "frames_of_marker_streams",
+           "stream_measurements", "live_measurements"]
 
 CSV_HEAD = ("t", "test", "fx", "fy", "fz", "mx", "my", "mz")
 WRENCH = CSV_HEAD[2:]
@@ -340,3 +341,119 @@ def write_csv(path, t, wrench, markers, labels=None):
         numbers = ",".join(repr(float(v)) for v in (*wrench[i], *flat[i]))
         lines.append(f"{float(t[i])!r},{label},{numbers}")
     return atomic_write_text(path, "\n".join(lines) + "\n")
+
+
+# --- frames from marker messages (a bag's or a live rig's) ---------------------------------
+
+def frames_of_marker_sets(sets, n_markers, source):
+    """Marker frames of PoseArray-like messages: ``sets`` [(stamp [ns], points (k N, 3),
+    message number)]; a message with k sets of N markers is k frames, its last at its stamp,
+    the others back at the stream's typical interval (frames that would not come after the
+    previous message's are left out). N: ``n_markers`` or the most common set size.
+
+    Returns (stamps [ns] (n,), frames (n, N, 3), message numbers (n,), frames left out).
+    """
+    sets = [(int(ns), np.asarray(p, float).reshape(-1, 3), i) for ns, p, i in sets]
+    sizes = [len(p) for _, p, _ in sets if len(p)]
+    if not sizes:
+        raise MeasurementError(source, "no marker sets")
+    n = n_markers or int(np.bincount(sizes).argmax())
+    if n < MIN_MARKERS:
+        raise MeasurementError(source, f"{n} markers per frame, at least {MIN_MARKERS} needed "
+                                       f"(a rigid fit of the loaded end)")
+    full = []
+    for ns, points, i in sets:
+        if len(points) % n:
+            raise MeasurementError(source, f"{len(points)} poses, not a whole number of "
+                                           f"frames of {n} markers", i, "poses",
+                                   unit="message")
+        if len(points):
+            full.append((ns, points.reshape(-1, n, 3), i))
+    stamps = np.array([ns for ns, _, _ in full], np.int64)
+    check_increasing(stamps.astype(float), source, np.array([i for _, _, i in full]),
+                     "header.stamp", "message")
+    typical = typical_intervals(stamps.astype(float)) if len(stamps) > 1 else np.zeros(1)
+    out, frames, rows, left_out, last = [], [], [], 0, -math.inf
+    for j, (ns, points, i) in enumerate(full):
+        dt = typical[min(j, len(typical) - 1)]
+        k = len(points)
+        for m in range(k):
+            t = ns - (k - 1 - m) * dt
+            if t > last:
+                out.append(t)
+                frames.append(points[m])
+                rows.append(i)
+                last = t
+            else:
+                left_out += 1
+    return np.array(out), np.array(frames), np.array(rows), left_out
+
+
+def frames_of_marker_streams(streams, source):
+    """Marker frames assembled from one stream per marker, ``streams`` [(stamps [ns] (n_i,),
+    points (n_i, 3))]: at each of marker 1's stamps, each marker's sample nearest to it
+    within half a frame interval; frames missing a marker are left out.
+
+    Returns (stamps [ns], frames (n, N, 3), frame numbers of marker 1, frames left out)."""
+    if len(streams) < MIN_MARKERS:
+        raise MeasurementError(source, f"{len(streams)} marker stream(s), at least "
+                                       f"{MIN_MARKERS} needed (one per marker)")
+    base = np.asarray(streams[0][0], np.int64)
+    if len(base) == 0:
+        raise MeasurementError(source, "no marker frames")
+    half = 0.5 * typical_intervals(base.astype(float))
+    half = np.r_[half, half[-1:]] if len(half) else np.zeros(1)
+    frames = np.zeros((len(base), len(streams), 3))
+    ok = np.ones(len(base), bool)
+    for m, (stamps, points) in enumerate(streams):
+        stamps = np.asarray(stamps, np.int64)
+        if len(stamps) == 0:
+            raise MeasurementError(source, f"marker {m + 1}: no messages")
+        j = np.searchsorted(stamps, base)
+        before = np.clip(j - 1, 0, len(stamps) - 1)
+        after = np.clip(j, 0, len(stamps) - 1)
+        near = np.where(np.abs(stamps[before] - base) <= np.abs(stamps[after] - base),
+                        before, after)
+        ok &= np.abs(stamps[near] - base) <= half
+        frames[:, m] = np.asarray(points, float)[near]
+    return base[ok], frames[ok], np.flatnonzero(ok) + 1, int(np.sum(~ok))
+
+
+def stream_measurements(load_ns, wrench, frame_ns, frames, rows, latency_s, load_source,
+                        marker_source, counts=None):
+    """Measurements of a load stream (stamps [ns], wrenches (n, 6)) and marker frames (stamps
+    [ns], (m, N, 3)), times from the earlier first stamp, synchronised after the latency."""
+    load_ns = np.asarray(load_ns, np.int64)
+    if len(load_ns) == 0:
+        raise MeasurementError(load_source, "no load samples")
+    check_increasing(load_ns.astype(float), load_source, np.arange(1, len(load_ns) + 1),
+                     "header.stamp", "message")
+    t0 = min(int(load_ns[0]), int(np.min(frame_ns)))
+    loads = LoadStream((load_ns - t0) / 1e9, np.asarray(wrench, float), load_source)
+    markers = MarkerStream((np.asarray(frame_ns, float) - t0) / 1e9, frames, marker_source,
+                           np.asarray(rows), "message")
+    data = synchronise(loads, markers, latency_s)
+    data.counts.update(counts or {}, t0_ns=t0)
+    return data
+
+
+def live_measurements(load_ns, wrench, markers, per_marker, bench, source):
+    """Measurements of what a live rig sent: load stamps [ns] and wrenches, and the marker
+    messages (per_marker: one list of (stamp [ns], point) per marker; else a list of (stamp
+    [ns], points) marker sets)."""
+    if per_marker:
+        streams = [(np.array([s for s, _ in m], np.int64), np.array([p for _, p in m], float))
+                   for m in markers]
+        stamps, frames, rows, left = frames_of_marker_streams(streams, source)
+        extra = {"incomplete_marker_frames": left}
+    else:
+        sets = [(ns, points, i + 1) for i, (ns, points) in enumerate(markers)]
+        stamps, frames, rows, left = frames_of_marker_sets(sets, bench.n_markers, source)
+        extra = {"burst_frames_left_out": left}
+    for name, values in (("load", wrench), ("markers", frames)):
+        bad = np.argwhere(~np.isfinite(np.asarray(values, float)))
+        if len(bad):
+            raise MeasurementError(source, f"a {name} value is not a finite number",
+                                   int(bad[0][0]) + 1, unit="message")
+    return stream_measurements(load_ns, wrench, stamps, frames, rows, bench.latency_s,
+                               f"{source}: load", f"{source}: markers", extra)

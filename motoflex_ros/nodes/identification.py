@@ -9,6 +9,17 @@ publishes them on /identification/results (diagnostic_msgs/DiagnosticArray, one 
 test, KeyValue values) and, once every component is done, writes ``result_file`` atomically.
 Loads and measured markers that are not finite, loads beyond the protocol's range and stamps
 that go back stop the node at that message (:mod:`.message_checks`), before the core sees it.
+
+``mode: measured`` (issue 17): a real rig, no FE model, no lock-step. The node reads the
+bench file (``bench_file``), subscribes to the load cell (geometry_msgs/WrenchStamped,
+``load_topic``) and the markers (``markers_topic``: one geometry_msgs/PoseArray per frame, or
+with ``marker_msg`` PointStamped / PoseStamped one topic ``<markers_topic>/m<i>`` per marker),
+keeps every message as it comes (asynchronous: any order across topics, any rates) and
+acknowledges nothing. A message on ``identify_topic`` (std_msgs/Empty), or ``idle_timeout_s``
+without input, identifies what has arrived (header stamps, the core's approximate-time
+matching, :func:`motoflex_ros.identify.measured.identify_measured`), publishes it on
+/identification/results and writes ``result_file``. Topic names default to
+/bench/<bench>/{load, markers/measured, identify} and can be set or remapped (``-r``).
 """
 import sys
 
@@ -26,6 +37,7 @@ from motoflex_ros.nodes.conversions import (
     time_msg,
 )
 from motoflex_ros.nodes.load_actuator import may_end_test
+from motoflex_ros.nodes.measured_inputs import MEASURED_PARAMS, MeasuredInputs
 from motoflex_ros.nodes.message_checks import BenchInputs
 from motoflex_ros.nodes.params import Param
 from motoflex_ros.nodes.runtime import ACK_TOPIC, RigNode, latched_qos, run_node
@@ -43,12 +55,63 @@ class IdentificationNode(RigNode):
     PARAMS = BENCH_PARAMS + (
         Param("result_file", "", description="JSON file of the results ('': none)"),
         Param("exit_when_done", False, description="exit once every component is identified"),
-    )
+        Param("mode", "virtual", choices=("virtual", "measured"),
+              description="virtual: the emulated bench in lock-step; measured: a real rig's "
+                          "topics, no FE model"),
+    ) + MEASURED_PARAMS
 
     def __init__(self):
+        self.live = None
+        super().__init__()
+        self.results_pub = self.create_publisher(DiagnosticArray, RESULTS_TOPIC, latched_qos())
+        if self.params["mode"] == "measured":
+            self.live = MeasuredInputs(self, self.params)
+            self.ENDS_ITSELF = self.params["exit_when_done"]
+            return
+        self._init_virtual()
+
+    def inputs_ready(self):
+        """Measured mode: the rig's topics have publishers (then /rig/ready goes out)."""
+        if self.live is None:
+            return super().inputs_ready()
+        return self.live.inputs_ready()
+
+    def step(self, spinner):
+        """One turn: in measured mode, identify once asked (after draining what arrived)."""
+        if self.live is None:
+            return super().step(spinner)
+        self.announce_ready()
+        spinner.spin_once(0.1)
+        if self.live.due():
+            spinner.spin_once(0)   # what arrived with the request: every topic drained
+            self._finish_measured()
+
+    def _finish_measured(self):
+        from motoflex_ros.identify.measured import identify_measured
+        from motoflex_ros.results_file import to_jsonable
+        bench = self.live.bench
+        result = identify_measured(self.live.measurements(), bench).to_dict()
+        measured = result.pop("measured")
+        summary = {"frames": measured["frames"], **measured["counts"],
+                   "reference": measured["reference"], "messages": dict(self.live.received)}
+        result_dict = to_jsonable({**result, "measured": summary})
+        msg = DiagnosticArray(status=identification_statuses(bench.name, result_dict))
+        msg.header.stamp = self.get_clock().now().to_msg()
+        self.results_pub.publish(msg)
+        c = measured["counts"]
+        self.get_logger().info(
+            f"{bench.name}: identified from {measured['frames']} frames, k = "
+            f"{result['static']['k']:.6g} N m/rad; dropped {c['dropped_marker_frames']} "
+            f"marker frames, {c['dropped_load_samples']} load samples, unmatched "
+            f"{c['unmatched_frames']}")
+        if self.params["result_file"]:
+            write_results(self.params["result_file"], {bench.name: {**result,
+                                                                    "measured": measured}})
+        self.finished = self.params["exit_when_done"]
+
+    def _init_virtual(self):
         from motoflex_ros.bench.sensor import MarkerSensor
         from motoflex_ros.identify.identifier import Identifier
-        super().__init__()
         self.setups = campaign_setups(self.params)
         self.ENDS_ITSELF = self.params["exit_when_done"]   # a job to finish: replay --identify
         self.identifiers = {c: Identifier(s.reduced.q0, s.protocol.harmonic)
@@ -60,7 +123,6 @@ class IdentificationNode(RigNode):
         self.results = {}
         self.unacked = {}
         self.ack_pub = self.advertise(KeyValue, ACK_TOPIC)
-        self.results_pub = self.create_publisher(DiagnosticArray, RESULTS_TOPIC, latched_qos())
         for c in self.setups:
             join = SampleJoin("phase", ("load", "measured"), self._handler(c),
                               needs=lambda h: ("measured",) if is_end_marker(h)
@@ -112,6 +174,8 @@ class IdentificationNode(RigNode):
 
     def acknowledge(self):
         """After a burst: acknowledge the samples nobody waits for, one ack per component."""
+        if self.live is not None:
+            return
         for component, ns in list(self.unacked.items()):
             self._ack(ns, component, "")
 

@@ -17,18 +17,16 @@ marker set of the wrong size) are one MeasurementError naming the bag, the topic
 and the field.
 """
 import functools
-import math
 from pathlib import Path
 
 import numpy as np
 
 from motoflex_ros.identify.measurements import (
-    LoadStream,
-    MarkerStream,
     MeasurementError,
     check_increasing,
-    synchronise,
-    typical_intervals,
+    frames_of_marker_sets,
+    frames_of_marker_streams,
+    stream_measurements,
 )
 
 __all__ = ["read_bag", "write_bag", "bag_topics", "WRENCH", "POSE_ARRAY", "POINT", "POSE",
@@ -116,83 +114,29 @@ def _loads(path, topic):
     return np.array(stamps, np.int64), np.array(wrenches)
 
 
-def _pose_array_frames(path, topic, n_markers):
-    """(message stamps [ns], frames per message, points (frames, N, 3), message index)."""
-    raw = []
+def _marker_sets(path, topic):
+    """[(stamp [ns], points (k N, 3), message number)] of a PoseArray topic, checked."""
+    out = []
     for i, msg in enumerate(_messages(path, topic)):
         points = np.array([(p.position.x, p.position.y, p.position.z) for p in msg.poses],
                           float).reshape(-1, 3)
         _finite(points, path, topic, i, lambda j, k: f"poses[{j}].position.{_AXES[k]}")
-        raw.append((_stamp_ns(msg), points, i))
-    sizes = [len(p) for _, p, _ in raw if len(p)]
-    if not sizes:
-        raise MeasurementError(path, f"topic {topic} (markers) has no marker sets")
-    n = n_markers or int(np.bincount(sizes).argmax())
-    if n < 3:
-        raise MeasurementError(f"{path}: {topic}", f"{n} markers per frame, at least 3 "
-                                                   f"needed (a rigid fit of the loaded end)")
-    stamps, counts, frames, index = [], [], [], []
-    for ns, points, i in raw:
-        if len(points) % n:
-            raise MeasurementError(f"{path}: {topic}", f"{len(points)} poses, not a whole "
-                                                       f"number of frames of {n} markers",
-                                   i + 1, "poses", unit="message")
-        if len(points):
-            stamps.append(ns)
-            counts.append(len(points) // n)
-            frames.append(points.reshape(-1, n, 3))
-            index.append(i + 1)
-    return np.array(stamps, np.int64), np.array(counts), np.concatenate(frames), index
+        out.append((_stamp_ns(msg), points, i + 1))
+    return out
 
 
-def _spread_bursts(stamps, counts, index):
-    """Frame stamps [ns]: a message with k frames stamps its last at the message's stamp and
-    the others back at the stream's typical interval; frames that would not come after the
-    previous message's are left out. Returns (stamps, kept mask, message index per frame)."""
-    typical = typical_intervals(stamps.astype(float)) if len(stamps) > 1 else np.array([0.0])
-    out, keep, rows, last = [], [], [], -math.inf
-    for j, (ns, k) in enumerate(zip(stamps, counts)):
-        dt = typical[min(j, len(typical) - 1)]
-        for i in range(k):
-            t = ns - (k - 1 - i) * dt
-            ok = t > last
-            keep.append(ok)
-            if ok:
-                out.append(t)
-                rows.append(index[j])
-                last = t
-    return np.array(out), np.array(keep, bool), np.array(rows)
-
-
-def _per_marker_frames(path, topics):
-    """Frames assembled from one PointStamped/PoseStamped topic per marker (module doc)."""
-    streams = []
-    for topic in topics:
-        stamps, points = [], []
-        for i, msg in enumerate(_messages(path, topic)):
-            p = msg.point if hasattr(msg, "point") else msg.pose.position
-            values = np.array([[p.x, p.y, p.z]])
-            _finite(values, path, topic, i, lambda _, k: f"position.{_AXES[k]}")
-            stamps.append(_stamp_ns(msg))
-            points.append(values[0])
-        if not stamps:
-            raise MeasurementError(path, f"topic {topic} (marker) has no messages")
-        check_increasing(np.array(stamps, float), f"{path}: {topic}",
-                         np.arange(1, len(stamps) + 1), "header.stamp", "message")
-        streams.append((np.array(stamps, np.int64), np.array(points)))
-    base, _ = streams[0]
-    half = 0.5 * typical_intervals(base.astype(float))
-    half = np.r_[half, half[-1:]] if len(half) else np.array([0.0])
-    frames = np.zeros((len(base), len(streams), 3))
-    ok = np.ones(len(base), bool)
-    for m, (stamps, points) in enumerate(streams):
-        j = np.clip(np.searchsorted(stamps, base), 1, max(len(stamps) - 1, 1))
-        near = np.where(np.abs(stamps[j - 1] - base) <= np.abs(stamps[np.minimum(j, len(stamps)
-                                                                                 - 1)] - base),
-                        j - 1, np.minimum(j, len(stamps) - 1))
-        ok &= np.abs(stamps[near] - base) <= half
-        frames[:, m] = points[near]
-    return base[ok], frames[ok], np.flatnonzero(ok) + 1, int(np.sum(~ok))
+def _marker_stream(path, topic):
+    """(stamps [ns], points (n, 3)) of a PointStamped or PoseStamped topic, checked."""
+    stamps, points = [], []
+    for i, msg in enumerate(_messages(path, topic)):
+        p = msg.point if hasattr(msg, "point") else msg.pose.position
+        values = np.array([[p.x, p.y, p.z]])
+        _finite(values, path, topic, i, lambda _, k: f"position.{_AXES[k]}")
+        stamps.append(_stamp_ns(msg))
+        points.append(values[0])
+    check_increasing(np.array(stamps, float), f"{path}: {topic}",
+                     np.arange(1, len(stamps) + 1), "header.stamp", "message")
+    return np.array(stamps, np.int64), np.array(points).reshape(-1, 3)
 
 
 def read_bag(path, bench, load_topic=None, markers_topics=None):
@@ -202,37 +146,23 @@ def read_bag(path, bench, load_topic=None, markers_topics=None):
     load = _pick(topics, load_topic, (WRENCH,), f"/bench/{bench.name}/load", "load cell",
                  path)
     wanted = list(markers_topics or [])
-    incomplete, bursts = 0, 0
     if len(wanted) > 1 or (wanted and topics.get(wanted[0]) in (POINT, POSE)):
         for topic in wanted:
             _pick(topics, topic, (POINT, POSE), None, "marker", path)
-        if len(wanted) < 3:
-            raise MeasurementError(path, f"{len(wanted)} marker topic(s) "
-                                         f"({', '.join(wanted)}), at least 3 needed (one "
-                                         f"PointStamped or PoseStamped topic per marker)")
-        stamps, frames, rows, incomplete = _per_marker_frames(path, wanted)
         source = f"{path}: {', '.join(wanted)}"
+        stamps, frames, rows, left = frames_of_marker_streams(
+            [_marker_stream(path, topic) for topic in wanted], source)
+        extra = {"incomplete_marker_frames": left}
     else:
         topic = _pick(topics, wanted[0] if wanted else None, (POSE_ARRAY,),
                       f"/bench/{bench.name}/markers/measured", "markers", path)
-        msg_stamps, counts, frames, index = _pose_array_frames(path, topic, bench.n_markers)
-        check_increasing(msg_stamps.astype(float), f"{path}: {topic}", np.array(index),
-                         "header.stamp", "message")
-        stamps, keep, rows = _spread_bursts(msg_stamps, counts, index)
-        frames = frames[keep]
-        bursts = int(np.sum(~keep))
         source = f"{path}: {topic}"
+        stamps, frames, rows, left = frames_of_marker_sets(_marker_sets(path, topic),
+                                                           bench.n_markers, source)
+        extra = {"burst_frames_left_out": left}
     load_ns, wrenches = _loads(path, load)
-    check_increasing(load_ns.astype(float), f"{path}: {load}", np.arange(1, len(load_ns) + 1),
-                     "header.stamp", "message")
-    t0 = min(int(load_ns[0]), int(stamps[0]))
-    loads = LoadStream((load_ns - t0) / 1e9, wrenches, f"{path}: {load}")
-    markers = MarkerStream((np.asarray(stamps, float) - t0) / 1e9, frames, source, rows,
-                           "message")
-    data = synchronise(loads, markers, bench.latency_s)
-    data.counts.update(incomplete_marker_frames=incomplete, burst_frames_left_out=bursts,
-                       t0_ns=t0)
-    return data
+    return stream_measurements(load_ns, wrenches, stamps, frames, rows, bench.latency_s,
+                               f"{path}: {load}", source, extra)
 
 
 def write_bag(path, load_t, wrench, marker_t, markers, load_topic, markers_topics,
