@@ -16,8 +16,8 @@ from motoflex_ros.limits import LIMITS, parse_limit, set_limit
 __all__ = ["main", "VERBS"]
 
 # verb module names, in the order --help lists them; a module that is absent is skipped
-VERBS = ("components", "identify", "eig", "study", "campaign", "replay", "bag", "rerun", "view",
-         "report")
+VERBS = ("components", "identify", "compare", "eig", "study", "campaign", "replay", "bag",
+         "rerun", "view", "report")
 
 
 def build_parser():

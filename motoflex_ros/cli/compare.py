@@ -1,0 +1,126 @@
+"""``motoflex compare A.json B.json``: two identifications side by side (issue 17).
+
+To hold a virtual bench against a real one: l, beta, b, k, c, J of the static, torsion and
+bending models and k_t, k_b (eq. 12) of both files (``motoflex identify --out``, with or
+without ``--measured``), with their difference in units of the combined uncertainty,
+z = (A - B) / sqrt(s_A^2 + s_B^2), s = half the 95 % interval / 1.96 (the intervals are
+value +/- 1.96 s, :mod:`motoflex_ros.identify.uncertainty`). |z| > 2: the two differ beyond
+their uncertainty (marked '*'). Components are paired by name; two files of one component
+each are paired whatever their names (a virtual 'swingarm' against a bench 'my_swingarm').
+"""
+import math
+import sys
+
+from motoflex_ros.cli.output import emit_json, print_table
+from motoflex_ros.errors import ConfigError
+
+__all__ = ["register", "run", "compare_results", "QUANTITIES", "Z_FLAG"]
+
+QUANTITIES = ("l", "beta", "b", "k", "c", "J")
+MODELS = ("static", "torsion", "bending")
+Z_FLAG = 2.0
+_Z95 = 1.959963984540054
+
+
+def register(subparsers):
+    """Add the ``compare`` verb."""
+    p = subparsers.add_parser("compare", help="compare two identifications (virtual vs real)",
+                              description="Compare l, beta, b, k, c, J and k_t, k_b of two "
+                                          "identification files, with the differences in "
+                                          "units of the combined uncertainty.")
+    p.add_argument("a", metavar="A.json", help="first identification (motoflex identify --out)")
+    p.add_argument("b", metavar="B.json", help="second identification")
+    p.add_argument("--json", action="store_true", help="print the comparison as JSON only")
+    p.set_defaults(func=run)
+
+
+def _sigma(entry, key):
+    ci = (entry.get("ci") or {}).get(key)
+    if not ci or any(v is None or not math.isfinite(v) for v in ci):
+        return None
+    return (ci[1] - ci[0]) / (2.0 * _Z95)
+
+
+def _value(entry, key):
+    value = entry.get(key) if entry else None
+    return value if isinstance(value, (int, float)) and math.isfinite(value) else None
+
+
+def _row(component, model, key, ea, eb):
+    a, b = _value(ea, key), _value(eb, key)
+    sa = _sigma(ea, key) if ea else None
+    sb = _sigma(eb, key) if eb else None
+    diff = a - b if a is not None and b is not None else None
+    z = None
+    if diff is not None and sa is not None and sb is not None and (sa or sb):
+        z = diff / math.hypot(sa, sb)
+    return {"component": component, "model": model, "quantity": key, "a": a, "b": b,
+            "a_ci": (ea or {}).get("ci", {}).get(key), "b_ci": (eb or {}).get("ci", {}).get(key),
+            "difference": diff, "z": z}
+
+
+def _pairs(data_a, data_b, path_a, path_b):
+    common = [name for name in data_a if name in data_b]
+    if common:
+        return [(name, name) for name in common]
+    if len(data_a) == 1 and len(data_b) == 1:
+        return [(next(iter(data_a)), next(iter(data_b)))]
+    raise ConfigError(path_b, "", f"no component in common with {path_a} ({', '.join(data_a)} "
+                                  f"against {', '.join(data_b)}); two files of one component "
+                                  f"each are compared whatever their names")
+
+
+def compare_results(data_a, data_b, path_a="A", path_b="B"):
+    """Rows of the comparison of two results mappings ({component: result})."""
+    rows = []
+    for name_a, name_b in _pairs(data_a, data_b, path_a, path_b):
+        ra, rb = data_a[name_a], data_b[name_b]
+        label = name_a if name_a == name_b else f"{name_a} / {name_b}"
+        for model in MODELS:
+            for key in QUANTITIES:
+                ea, eb = ra.get(model), rb.get(model)
+                if (ea and key in ea) or (eb and key in eb):
+                    rows.append(_row(label, model, key, ea, eb))
+        for key in ("k_t", "k_b"):
+            rows.append(_row(label, "eq. 12", key, ra, rb))
+    return rows
+
+
+def _load(path):
+    from motoflex_ros.identify.results import load_results_file
+    data = load_results_file(path)
+    for name, result in data.items():
+        if not isinstance(result, dict) or "static" not in result:
+            raise ConfigError(path, str(name), "not an identification result (no 'static'); "
+                                               "give files of motoflex identify --out")
+    return data
+
+
+def _text(value, spec=".5g"):
+    return "n/a" if value is None else f"{value:{spec}}"
+
+
+def _interval(ci):
+    if not ci or any(v is None for v in ci):
+        return "n/a"
+    return f"[{ci[0]:.4g}, {ci[1]:.4g}]"
+
+
+def run(args):
+    """Print the comparison; returns the exit code."""
+    rows = compare_results(_load(args.a), _load(args.b), args.a, args.b)
+    if args.json:
+        emit_json(rows)
+        return 0
+    table = [[r["component"], r["model"], r["quantity"], _text(r["a"]), _interval(r["a_ci"]),
+              _text(r["b"]), _interval(r["b_ci"]), _text(r["difference"], ".3g"),
+              _text(r["z"], "+.2f") + (" *" if r["z"] is not None and abs(r["z"]) > Z_FLAG
+                                       else "")]
+             for r in rows]
+    print_table(["component", "model", "", "A", "A 95 % interval", "B", "B 95 % interval",
+                 "A - B", "z"], table)
+    flagged = sum(1 for r in rows if r["z"] is not None and abs(r["z"]) > Z_FLAG)
+    sys.stdout.write(f"\nz = (A - B) / combined standard uncertainty; {flagged} of "
+                     f"{sum(r['z'] is not None for r in rows)} differences beyond |z| > "
+                     f"{Z_FLAG:g} (*)\n")
+    return 0
