@@ -148,3 +148,20 @@ def bench_yaml(name, q0, markers=PLATE, noise_m=5e-6, latency_s=0.0):
     return (f"bench: {name}\nloaded_end: [{', '.join(repr(float(v)) for v in q0)}]\n"
             f"markers: {marker_text}\nsensor: {{noise_m: {noise_m!r}, latency_s: "
             f"{latency_s!r}}}\n")
+
+
+def verb_script(argv, blocked=("motoflex_ros.structures", "motoflex_ros.bench.campaign")):
+    """Python source that runs ``motoflex identify`` with ``argv`` (the verb registered alone:
+    the ``motoflex`` parser imports every verb, the eigenvalue verb the vehicle and its
+    structures) with the ``blocked`` packages made unimportable, and asserts that no
+    structures module got loaded; exits with the verb's code."""
+    return ("import sys, argparse\n"
+            f"for name in {tuple(blocked)!r}:\n"
+            "    sys.modules[name] = None\n"
+            "from motoflex_ros.cli import identify\n"
+            "parser = argparse.ArgumentParser()\n"
+            "identify.register(parser.add_subparsers())\n"
+            f"code = identify.run(parser.parse_args(['identify', *{list(map(str, argv))!r}]))\n"
+            "assert not [m for m, v in sys.modules.items()\n"
+            "            if v is not None and m.startswith('motoflex_ros.structures')]\n"
+            "sys.exit(code)\n")

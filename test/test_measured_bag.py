@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from measured_cases import bench_yaml, hinge_record
+from measured_cases import bench_yaml, hinge_record, verb_script
 
 from motoflex_ros.identify.bench_file import load_bench
 from motoflex_ros.identify.measured import identify_measured
@@ -112,29 +112,14 @@ def _agree(mine, theirs, key):
 def test_emulated_rig_bag_without_the_fe_model(tmp_path):
     """bags/example's frame through the measured mode, the structures package blocked."""
     virtual = json.loads((EXAMPLE / "identification.json").read_text())["frame"]
-    components = json.loads((EXAMPLE / "components.json").read_text())
     from motoflex_ros.bench.sensor import DEFAULT_MARKERS
-    q0 = components["frame"]["q0"] if "q0" in components.get("frame", {}) else None
-    if q0 is None:
-        from motoflex_ros.structures.components import load_component
-        q0 = load_component("frame").clamped_reduced().q0.tolist()
+    from motoflex_ros.structures.components import load_component  # here, not in the child
+    q0 = load_component("frame").clamped_reduced().q0.tolist()
     (tmp_path / "bench.yaml").write_text(yaml.safe_dump({
         "bench": "frame", "loaded_end": [float(v) for v in q0],
         "markers": [list(m) for m in DEFAULT_MARKERS],
         "sensor": {"noise_m": 5e-6, "latency_s": 0.001}}))
-    script = (
-        "import sys, argparse\n"
-        "sys.modules['motoflex_ros.structures'] = None\n"
-        "sys.modules['motoflex_ros.bench.campaign'] = None\n"
-        "from motoflex_ros.cli import identify\n"
-        "parser = argparse.ArgumentParser()\n"
-        "identify.register(parser.add_subparsers())\n"
-        f"args = parser.parse_args(['identify', '--measured', {str(EXAMPLE)!r}, '--bench',\n"
-        f"                          {str(tmp_path / 'bench.yaml')!r}, '--json'])\n"
-        "code = identify.run(args)\n"
-        "assert not [m for m, v in sys.modules.items()\n"
-        "            if v is not None and m.startswith('motoflex_ros.structures')]\n"
-        "sys.exit(code)\n")
+    script = verb_script(["--measured", EXAMPLE, "--bench", tmp_path / "bench.yaml", "--json"])
     run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     result = json.loads(run.stdout)["frame"]

@@ -7,7 +7,7 @@ import sys
 
 import numpy as np
 import pytest
-from measured_cases import PLATE, bench_yaml, cantilever_record, hinge_record
+from measured_cases import PLATE, bench_yaml, cantilever_record, hinge_record, verb_script
 
 from motoflex_ros.cli.main import main
 from motoflex_ros.identify.measurements import write_csv
@@ -28,22 +28,9 @@ def test_measured_cli_needs_no_structures(hinge_files, tmp_path):
     vehicle and its structures; the verb is registered alone here.)"""
     csv_path, bench_path, truth = hinge_files
     out = tmp_path / "out.json"
-    script = (
-        "import sys\n"
-        "for name in ('motoflex_ros.structures', 'motoflex_ros.bench.campaign',\n"
-        "             'motoflex_ros.bench.response', 'motoflex_ros.bench.plan'):\n"
-        "    sys.modules[name] = None\n"
-        "import argparse\n"
-        "from motoflex_ros.cli import identify\n"
-        "parser = argparse.ArgumentParser()\n"
-        "identify.register(parser.add_subparsers())\n"
-        f"args = parser.parse_args(['identify', '--measured', {str(csv_path)!r}, '--bench',\n"
-        f"                          {str(bench_path)!r}, '--json', '--out', {str(out)!r}])\n"
-        "code = identify.run(args)\n"
-        "loaded = [m for m, v in sys.modules.items()\n"
-        "          if v is not None and m.startswith('motoflex_ros.structures')]\n"
-        "assert not loaded, loaded\n"
-        "sys.exit(code)\n")
+    script = verb_script(["--measured", csv_path, "--bench", bench_path, "--json", "--out",
+                          out], blocked=("motoflex_ros.structures", "motoflex_ros.bench.campaign",
+                                         "motoflex_ros.bench.response", "motoflex_ros.bench.plan"))
     run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     printed = json.loads(run.stdout)

@@ -54,6 +54,7 @@ from motoflex_ros.identify.results import (
     LEVEL,
     MEASURED_KEY,
     AxisModel,
+    ComponentIdentification,
     check_positive_k,
     harmonic_axis,
     mode_model,
@@ -83,38 +84,15 @@ MODEL_LABELS = ("torsion", "bending")
 
 
 @dataclass(frozen=True)
-class MeasuredIdentification:
-    """Results of a measured bench: static, torsion, bending models (None when the record has
-    no such test), the eq. (12) split, the sweep, other harmonic tests, modal data and what
-    was measured (``measured``)."""
+class MeasuredIdentification(ComponentIdentification):
+    """Results of a measured bench: a ComponentIdentification whose torsion and bending models
+    are None when the record has no such test, with what was measured (``measured``)."""
 
-    name: str
-    static: AxisModel
-    torsion: AxisModel
-    bending: AxisModel
-    split: AxisModel
-    sweep: tuple
-    modal: dict
-    others: dict
     measured: dict
 
-    @property
-    def split_identifiable(self):
-        """Whether eq. (12) gave two positive finite springs k_t, k_b."""
-        return self.split.info["split_identifiable"]
-
     def to_dict(self):
-        """The shape of ``motoflex identify``'s results (None for a model the record lacks),
-        with the ``measured`` entry."""
-        out = {"static": self.static.to_dict(),
-               "torsion": self.torsion.to_dict() if self.torsion else None,
-               "bending": self.bending.to_dict() if self.bending else None,
-               **self.split.values, **self.split.info,
-               "ci": {**self.split.ci, "level": LEVEL},
-               "sweep": [s.to_dict() for s in self.sweep], "modal": self.modal}
-        out.update({name: m.to_dict() for name, m in self.others.items()})
-        out[MEASURED_KEY] = self.measured
-        return out
+        """The shape of ``motoflex identify``'s results, with the ``measured`` entry."""
+        return {**super().to_dict(), MEASURED_KEY: self.measured}
 
 
 def _det(m):

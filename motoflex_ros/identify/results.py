@@ -103,8 +103,10 @@ class ComponentIdentification:
     def to_dict(self):
         """The JSON/YAML shape the vehicle side reads (k_t, k_b NaN/null and
         ``split_identifiable`` False with ``split_problem`` when eq. 12 has no valid split)."""
-        out = {"static": self.static.to_dict(), "torsion": self.torsion.to_dict(),
-               "bending": self.bending.to_dict(), **self.split.values, **self.split.info,
+        out = {"static": self.static.to_dict(),
+               "torsion": self.torsion.to_dict() if self.torsion else None,
+               "bending": self.bending.to_dict() if self.bending else None,
+               **self.split.values, **self.split.info,
                "ci": {**self.split.ci, "level": LEVEL},
                "sweep": [s.to_dict() for s in self.sweep], "modal": self.modal}
         out.update({name: m.to_dict() for name, m in self.others.items()})
