@@ -1,10 +1,11 @@
 """The identification node in ``mode: measured`` on live topics (issue 17).
 
 A rig's publisher (test/measured_publisher.py, a process of its own) sends the hinge record of
-test/measured_cases.py as a real rig would: the load cell at 1.25 kHz on its own clock (stamps
-offset from the markers', the load interpolated to them), the marker sets at 1 kHz with 1 % of
-the frames dropped, the two streams sent out of step (each message's send time jittered by
-+-1 ms, so that loads and markers arrive interleaved in another order than their stamps). The
+test/measured_cases.py as a real rig would: the load cell at 400 Hz on its own clock (samples
+offset from the markers', each stamped up to +-1 ms off the instant it was taken: stamp
+jitter; at 400 Hz the stamps still increase), the marker sets at 1 kHz with 1 % of the frames
+dropped, the two streams sent out of step (each message's send time jittered by +-1 ms, so that
+loads and markers arrive interleaved in another order than their stamps). The
 node (its own ROS domain, no acknowledgements, no FE model) identifies when asked and must give
 the offline identification of the full record within its intervals, and count the dropped
 frames exactly. No timing is asserted; the waits have no deadline but the hang guard.
@@ -35,10 +36,12 @@ HERE = Path(__file__).resolve().parent
 
 
 def _streams(t, wrench, points, rng):
-    """Load cell at 1.25 kHz (its first sample 0.37 ms after the markers' clock start), 1 %
-    of the marker frames dropped, send times jittered by +-1 ms."""
-    load_t = np.arange(t[0] + 0.00037, t[-1], 1.0 / 1250.0)
-    load = np.column_stack([np.interp(load_t, t, wrench[:, k]) for k in range(6)])
+    """Load cell at 400 Hz (its first sample 0.37 ms after the markers' clock start, stamps
+    jittered by +-1 ms), 1 % of the marker frames dropped, send times jittered by +-1 ms."""
+    taken = np.arange(t[0] + 0.00037, t[-1], 1.0 / 400.0)
+    load = np.column_stack([np.interp(taken, t, wrench[:, k]) for k in range(6)])
+    load_t = taken + rng.uniform(-1e-3, 1e-3, len(taken))
+    assert np.all(np.diff(load_t) > 0)
     keep = rng.random(len(t)) >= 0.01
     keep[:5] = keep[-5:] = True
     marker_t = t[keep]

@@ -333,6 +333,16 @@ def _labelled(t, force, a, b, name, threshold, noise):
     return replace(seg, name=name, kind=kind or "harmonic", labelled=True, note="labelled")
 
 
+def _check_label(name, frame, source):
+    """MeasurementError for a test label that is a key of the results (ci, modal, ...)."""
+    from motoflex_ros.identify.results import MEASURED_KEY, RESULT_KEYS
+    if name in RESULT_KEYS + (MEASURED_KEY,):
+        raise MeasurementError(source, f"'{name}' is a key of the results, not a test name "
+                                       f"(not allowed: {', '.join(RESULT_KEYS + (MEASURED_KEY,))}"
+                                       f"; static, torsion, bending, sweep_NN, decay or any "
+                                       f"other name)", frame + 1, "test")
+
+
 def _mark_sweeps(segments):
     """Runs of >= 3 consecutive harmonic segments at one amplitude with monotonic frequencies
     become the sweep (kind 'sweep')."""
@@ -397,6 +407,7 @@ def find_tests(t, force, labels=None, source="measurements", column="fy"):
         cuts = [s0] + [i for i in range(s0 + 1, s1) if labels[i] != labels[i - 1]] + [s1]
         for a, b in zip(cuts[:-1], cuts[1:]):
             if labels[a]:
+                _check_label(labels[a], a, source)
                 seg = _labelled(t, force, a, b, labels[a], threshold, noise)
                 if seg is not None:
                     segments.append(seg)
