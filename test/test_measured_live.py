@@ -50,7 +50,16 @@ def _streams(t, wrench, points, rng):
             "send_t": send_t}, int(np.sum(~keep))
 
 
-def test_live_asynchronous_rig(tmp_path):
+LAYOUTS = {
+    "posearray": (),
+    # one PointStamped topic per marker, set by parameters; the load cell's topic remapped
+    "points": ("-p", "marker_msg:=PointStamped", "-p", "markers_topic:=/vicon/rig", "-p",
+               "n_markers:=4", "-r", "/bench/rig/load:=/ati/wrench"),
+}
+
+
+@pytest.mark.parametrize("layout", sorted(LAYOUTS))
+def test_live_asynchronous_rig(tmp_path, layout):
     t, wrench, points, _, q0 = hinge_record(noise_m=5e-6)
     write_csv(tmp_path / "rig.csv", t, wrench, points)
     bench_path = tmp_path / "bench.yaml"
@@ -68,10 +77,10 @@ def test_live_asynchronous_rig(tmp_path):
             [sys.executable, "-m", "motoflex_ros.nodes.identification", "--ros-args",
              "-p", "mode:=measured", "-p", f"bench_file:={bench_path}", "-p",
              f"result_file:={out}", "-p", "exit_when_done:=true", "-p", "qos:=reliable",
-             "-p", "use_sim_time:=false"],
+             "-p", "use_sim_time:=false", *LAYOUTS[layout]],
             env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         rig = subprocess.Popen([sys.executable, str(HERE / "measured_publisher.py"),
-                                str(tmp_path / "streams.npz"), "rig"], env=env,
+                                str(tmp_path / "streams.npz"), "rig", layout], env=env,
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         try:
             rig_out = rig.communicate(timeout=HANG_GUARD_S)
@@ -99,3 +108,20 @@ def test_live_asynchronous_rig(tmp_path):
     assert live["modal"]["bending"]["source"] == "free decay"
     assert live["modal"]["bending"]["omega_n"] == pytest.approx(
         offline["modal"]["bending"]["omega_n"], rel=1e-3)
+
+
+@pytest.mark.parametrize("params, words", [
+    ((), "parameter 'bench_file' is required in mode measured"),
+    (("bench_file:=/nonexistent/bench.yaml",), "/nonexistent/bench.yaml: file not found"),
+])
+def test_measured_node_refuses_a_missing_bench_file(tmp_path, params, words):
+    with DomainLock() as lock:
+        env = ros_env(lock.domain_id, tmp_path / "log")
+        cmd = [sys.executable, "-m", "motoflex_ros.nodes.identification", "--ros-args",
+               "-p", "mode:=measured"]
+        for p in params:
+            cmd += ["-p", p]
+        proc = subprocess.run(cmd, env=env, capture_output=True, text=True,
+                              timeout=HANG_GUARD_S)
+    assert proc.returncode == 2, proc
+    assert words in proc.stderr and "Traceback" not in proc.stderr

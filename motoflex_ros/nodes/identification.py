@@ -28,6 +28,7 @@ from diagnostic_msgs.msg import DiagnosticArray, KeyValue
 from geometry_msgs.msg import PoseArray, WrenchStamped
 from std_msgs.msg import String
 
+from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.conversions import (
@@ -84,7 +85,12 @@ class IdentificationNode(RigNode):
         spinner.spin_once(0.1)
         if self.live.due():
             spinner.spin_once(0)   # what arrived with the request: every topic drained
-            self._finish_measured()
+            try:
+                self._finish_measured()
+            except MotoflexError as exc:   # a live rig may still send what is missing
+                if self.params["exit_when_done"]:
+                    raise
+                self.get_logger().error(f"not identified yet: {exc}")
 
     def _finish_measured(self):
         from motoflex_ros.identify.measured import identify_measured
