@@ -149,7 +149,8 @@ def build_variant(vehicle, variant, names, identified, components):
         for name in names:
             lumped.check_site(vehicle, name, lumped.site_of(components[name]))
         return flexible_vehicle(vehicle, {
-            name: superelement_of(components[name], lumped.SUPERELEMENT_PARENT[name])
+            name: superelement_of(components[name], lumped.SUPERELEMENT_PARENT[name],
+                                  follows=lumped.SUPERELEMENT_FOLLOWS.get(name))
             for name in names})
     joints = {}
     for name in names:
