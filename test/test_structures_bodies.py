@@ -104,3 +104,40 @@ def test_bad_cross_body_link_refused():
             _joints(structure, body_of)
     finally:
         structure.links[0] = (master, slave, (0, 1, 2))
+
+
+def test_cli_lists_the_bodies_as_table_a1():
+    """``motoflex components --bodies --json``: the paper's body names (the files' ``bodies``
+    key), FE DOFs, 'modes+boundary', and the assembly's Table 1 frequencies."""
+    import json
+    from contextlib import redirect_stdout
+    from io import StringIO
+
+    from motoflex_ros.cli.main import main
+    out = StringIO()
+    with redirect_stdout(out):
+        assert main(["components", "--component", "front_assembly", "--bodies", "--json"]) == 0
+    entry = json.loads(out.getvalue())["front_assembly"]
+    names = [b["name"] for b in entry["bodies"]["list"]]
+    assert sorted(names) == sorted(["fork_bridge", "stanchion_left", "stanchion_right",
+                                    "lower_fork", "longitudinal_arm"])
+    assert all(b["fe_dofs"] > 6 and "+" in b["reduced"] for b in entry["bodies"]["list"])
+    assert entry["bodies"]["f_torsion_hz"] == pytest.approx(entry["f_torsion_full_hz"],
+                                                            rel=TOLERANCE)
+
+
+@pytest.mark.parametrize("bodies, message", [
+    ("{arm: no_such_node}", "bodies.arm"),
+    ("{a: slider_top_left, b: lower_bridge_left}", "name the same body"),
+])
+def test_bad_body_names_refused(tmp_path, bodies, message):
+    from motoflex_ros.config import config_path
+    from motoflex_ros.errors import MotoflexError
+    text = config_path("components", "front_assembly").read_text()
+    start = text.index("bodies: {")
+    end = text.index("interfaces:")
+    bad = tmp_path / "front.yaml"
+    bad.write_text(text[:start] + f"bodies: {bodies}\n" + text[end:])
+    with pytest.raises(MotoflexError, match=message) as err:
+        reduce_bodies(load_component(str(bad)))
+    assert "front.yaml" in str(err.value)

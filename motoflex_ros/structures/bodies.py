@@ -146,6 +146,18 @@ def _bare_node(structure, node):
     return m, np.zeros((6, 6))
 
 
+def _body_name(component, nodes):
+    """The name the component's ``bodies`` key gives the body of ``nodes``, else its first
+    named node; ModelError when two names are given to one body."""
+    given = [b for b, n in (component.body_names or {}).items() if n in nodes]
+    if len(given) > 1:
+        raise ModelError(f"{component.source or component.name}: bodies.{given[0]} and "
+                         f"bodies.{given[1]} name the same body; give each body one name")
+    names = {i: n for n, i in component.node_names.items()}
+    return given[0] if given else next((names[n] for n in nodes if n in names),
+                                       f"node{nodes[0]}")
+
+
 def reduce_bodies(component, n_modes=20, f_max_hz=600.0):
     """FlexibleBody list of ``component``: each body reduced by Craig-Bampton with all DOFs of
     its boundary nodes kept (Table A.1: 20 modes per body, content up to 600 Hz)."""
@@ -155,11 +167,10 @@ def reduce_bodies(component, n_modes=20, f_max_hz=600.0):
     springs, links = _joints(structure, body_of)
     joint_nodes = {n for s in springs for n in s[:2]} | {n for lk in links for n in lk[:2]}
     joint_nodes |= set(component.interface_nodes)
-    names = {i: n for n, i in component.node_names.items()}
     out = []
     for nodes in bodies:
         boundary = tuple(n for n in nodes if n in joint_nodes)
-        name = next((names[n] for n in nodes if n in names), f"node{nodes[0]}")
+        name = _body_name(component, nodes)
         if not boundary:
             raise ModelError(f"{component.source or component.name}: body '{name}' is joined "
                              "to nothing (no spring, link or interface node holds it)")
