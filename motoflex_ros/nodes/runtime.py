@@ -85,10 +85,11 @@ class RigNode(Node):
 
     NAME = "node"
     ENDS_ITSELF = False   # does the node finish on its own (``finished``)? see run_node
+    SIM_TIME = True       # on /clock (use_sim_time) unless told otherwise; not the clock source
 
     def __init__(self, name=None):
         super().__init__(name or self.NAME)
-        if "use_sim_time" not in self._parameter_overrides:
+        if self.SIM_TIME and "use_sim_time" not in self._parameter_overrides:
             self.set_parameters([Parameter("use_sim_time", value=True)])
         self.params = declare_parameters(self, self.PARAMS)
         self.finished = False

@@ -23,6 +23,10 @@ class SimClock(RigNode):
 
     NAME = "sim_clock"
     ENDS_ITSELF = True
+    # The clock source runs on wall time: with use_sim_time its own time source subscribes to
+    # /clock, and "a subscriber of /clock" counted that one, so a sim_clock started alone
+    # published its whole run to itself and ended (seen as a node that exits at start-up).
+    SIM_TIME = False
     PARAMS = (
         Param("dt", 0.001, 1e-6, 1.0, description="step of simulated time [s]"),
         Param("duration", 1.0, 0.0, 1e6, description="simulated time of the run [s]"),
