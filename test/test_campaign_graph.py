@@ -60,7 +60,7 @@ def interruptible():
 def _campaign(tmp_path, *extra):
     env = dict(os.environ, TMPDIR=str(tmp_path), OPENBLAS_NUM_THREADS="1")
     return subprocess.Popen([sys.executable, "-m", "motoflex_ros.cli.main", "campaign",
-                             "--components", COMPONENT, *extra], env=env, text=True,
+                             "--component", COMPONENT, *extra], env=env, text=True,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             preexec_fn=interruptible)
 

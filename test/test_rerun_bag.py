@@ -178,7 +178,7 @@ def make_bag(path, with_results=False, eigenvalues=True):
     if with_results:
         _identification_file(path, reduced, values)
         eig = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "eig", "--vehicle",
-                              "touring", "--range-kmh", "40", "210", "--step", "10", "--json"],
+                              "touring", "--range-kmh", "40", "210", "--step-kmh", "10", "--json"],
                              capture_output=True, text=True, check=True)
         (path / "eig.json").write_text(eig.stdout)
     return values

@@ -197,7 +197,7 @@ def _cli(*argv, env=None, **kw):
 def test_campaign_refuses_a_busy_domain_at_once(tmp_path):
     with DomainLock() as other_run:
         start = time.monotonic()
-        cli = _cli("campaign", "--components", "swingarm", "--out", tmp_path / "run",
+        cli = _cli("campaign", "--component", "swingarm", "--out", tmp_path / "run",
                    "--report", "none", env={"ROS_DOMAIN_ID": str(other_run.domain_id)})
         elapsed = time.monotonic() - start
     assert cli.returncode == 2, cli.stderr
@@ -212,7 +212,7 @@ def test_campaign_refuses_a_busy_domain_at_once(tmp_path):
     ({"MOTOFLEX_DDS": "wifi"}, "MOTOFLEX_DDS='wifi': expected"),
 ])
 def test_campaign_refuses_bad_ros_settings(tmp_path, env, message):
-    cli = _cli("campaign", "--components", "swingarm", "--out", tmp_path / "run",
+    cli = _cli("campaign", "--component", "swingarm", "--out", tmp_path / "run",
                "--report", "none", env=env)
     assert cli.returncode == 2 and message in cli.stderr and "Traceback" not in cli.stderr
     assert not (tmp_path / "run").exists()
@@ -286,7 +286,7 @@ def test_campaign_sockets_on_loopback_and_explicit_domain_honoured(tmp_path):
         domain = free.domain_id
     bag = tmp_path / "run"
     proc = subprocess.Popen([sys.executable, "-m", "motoflex_ros.cli.main", "campaign",
-                             "--components", "swingarm", "--out", str(bag), "--report", "none",
+                             "--component", "swingarm", "--out", str(bag), "--report", "none",
                              "--json"], env=_node_env(domain, tmp_path, TMPDIR=str(tmp_path)),
                             text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     seen, domains, profiles = {}, set(), set()

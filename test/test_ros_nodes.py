@@ -218,7 +218,7 @@ def test_bad_protocol_file_clear_error(tmp_path, env):
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 2 and "nope.yaml: file not found" in err
     cli = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "campaign",
-                          "--components", "swingarm", "--protocol", str(tmp_path / "nope.yaml"),
+                          "--component", "swingarm", "--protocol", str(tmp_path / "nope.yaml"),
                           "--out", str(tmp_path / "run")], capture_output=True, text=True,
                          timeout=120, env=env)
     assert cli.returncode == 2 and "nope.yaml: file not found" in cli.stderr

@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 
 from motoflex_ros.cli.inputs import noise_argument, seed_argument
+from motoflex_ros.cli.options import add_component_option, components_of
 from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
@@ -26,8 +27,8 @@ def register(subparsers):
     """Add the ``campaign`` verb."""
     p = subparsers.add_parser("campaign", help="run the bench campaign through the ROS 2 graph",
                               description=__doc__.splitlines()[0])
-    p.add_argument("--components", nargs="+", metavar="NAME", default=list(DEFAULT_COMPONENTS),
-                   help="components (default: frame front_assembly swingarm)")
+    add_component_option(p, "a component (shipped name); repeatable (default: frame, "
+                            "front_assembly, swingarm)")
     p.add_argument("--protocol", metavar="FILE", help="protocol YAML (default: each "
                    "component's shipped protocol)")
     p.add_argument("--noise", type=noise_argument, metavar="SIGMA",
@@ -56,11 +57,11 @@ def run(args):
         from motoflex_ros.report.build import REPORT_FILE
         results.append(REPORT_FILE)
     with run_status(out, results):   # status.json last: complete, or failed and no results
-        outcome = run_campaign_graph(args.components, out, args.noise, args.seed,
-                                     args.protocol, progress=not args.json)
+        # progress on stderr, also with --json (stdout then holds the JSON alone)
+        outcome = run_campaign_graph(components_of(args, DEFAULT_COMPONENTS), out, args.noise,
+                                     args.seed, args.protocol, progress=True)
         timings = {"graph": outcome.wall_s}
-        written = _recording_and_report(outcome.bag, args.report, timings,
-                                        progress=not args.json)
+        written = _recording_and_report(outcome.bag, args.report, timings, progress=True)
     if args.json:
         emit_json(outcome.results)
         return 0

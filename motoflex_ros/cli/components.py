@@ -12,7 +12,7 @@ f_bending_full_hz, frequency_model, warnings}}; --plot DIR writes one PNG per co
 import sys
 from pathlib import Path
 
-from motoflex_ros.cli.output import emit_json, print_table
+from motoflex_ros.cli.output import emit_json, print_table, progress_bar
 
 __all__ = ["register", "run", "FREQUENCY_MODEL"]
 
@@ -107,8 +107,10 @@ def run(args):
     summaries = [summarize(c, r) for c, r in zip(components, reduced)]
     if args.plot:
         from motoflex_ros.plots.components import plot_component
-        for comp, red in zip(components, reduced):
-            plot_component(comp, red, Path(args.plot) / f"{comp.name}.png")
+        with progress_bar(len(components), "plots", "component") as bar:
+            for comp, red in zip(components, reduced):
+                plot_component(comp, red, Path(args.plot) / f"{comp.name}.png")
+                bar.update(1)
     bodies = {c.name: _bodies_entry(c, s) for c, s in zip(components, summaries)
               if args.bodies}
     if args.json:

@@ -10,7 +10,13 @@ import sys
 from pathlib import Path
 
 from motoflex_ros.cli.inputs import noise_argument, seed_argument
-from motoflex_ros.cli.output import add_force_option, check_new_file, emit_json, print_table
+from motoflex_ros.cli.output import (
+    add_force_option,
+    check_new_file,
+    emit_json,
+    print_table,
+    progress_bar,
+)
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.results_file import write_results
 
@@ -100,7 +106,9 @@ def run(args):
     components = args.component or list(DEFAULT_COMPONENTS)
     if args.out:
         check_new_file(args.out, args.force)
-    runs = identify_components(components, args.protocol, args.noise, args.seed)
+    with progress_bar(len(components), "bench identification", "component") as bar:
+        runs = identify_components(components, args.protocol, args.noise, args.seed,
+                                   progress=lambda _name: bar.update(1))
     results = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
     if args.out:
         write_results(args.out, results)

@@ -22,9 +22,11 @@ def identification_results(path=None, components=COMPONENTS, seed=0):
         from motoflex_ros.identify.results import load_results_file
         return load_results_file(Path(path))
     from motoflex_ros.bench.campaign import identify_components
-
+    from motoflex_ros.cli.output import progress_bar
     print("running the bench identification ...", file=sys.stderr)
-    runs = identify_components(list(components), seed=seed)
+    with progress_bar(len(components), "bench identification", "component") as bar:
+        runs = identify_components(list(components), seed=seed,
+                                   progress=lambda _name: bar.update(1))
     return {name: run.identification.to_dict() for name, (_, run) in runs.items()}
 
 

@@ -10,6 +10,7 @@ import importlib
 import os
 import sys
 
+from motoflex_ros.cli.options import state_defaults
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.limits import LIMITS, parse_limit, set_limit
 
@@ -37,6 +38,7 @@ def build_parser():
             raise
         module.register(subparsers)
     _add_limit_option(subparsers)
+    state_defaults(parser)
     return parser
 
 
