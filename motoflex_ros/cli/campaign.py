@@ -86,9 +86,9 @@ def _recording_and_report(bag, mode, timings, progress):
     """
     written = []
     if mode != "none":
-        from motoflex_ros.record.rerun_bag import convert_bag
+        from motoflex_ros.cli.recording import write_recording
         start = time.perf_counter()
-        rrd, _ = convert_bag(bag, progress=progress)
+        rrd, _ = write_recording(bag, progress=progress)
         timings["rerun recording"] = time.perf_counter() - start
         written.append(rrd)
     timings_file = Path(bag) / "timings.json"

@@ -59,13 +59,14 @@ def disable_analytics(rerun):
 
 
 def _recording(folder):
-    from motoflex_ros.record.rerun_bag import convert_bag, rrd_path_of
+    from motoflex_ros.cli.recording import write_recording
+    from motoflex_ros.record.rerun_bag import rrd_path_of
     rrd = rrd_path_of(folder)
     if not rrd.is_file():
         if not (folder / "metadata.yaml").is_file():
             raise MotoflexError(f"{folder}: no {rrd.name} and no bag to make it from")
         print(f"converting the bag into {rrd} ...", file=sys.stderr)
-        convert_bag(folder, progress=True)
+        write_recording(folder, progress=True)
     return rrd
 
 

@@ -179,12 +179,15 @@ def log_vehicle_topics(rec, grouped, info, t0):
     return converted, axes
 
 
-def log_vehicle_model(rec, vehicle, identify, road_test, joint_axes):
-    """The motorcycle from the vehicle engine (:mod:`.rerun_motorcycle`): the lumped 'static'
-    variant of the identified components, else the rigid ``vehicle``; without the road test or
-    the joint axes when the bag has them."""
-    from motoflex_ros.record.rerun_motorcycle import log_motorcycle, vehicle_model
-    model, description = vehicle_model(vehicle, identify)
-    log_motorcycle(rec, model, road_test=road_test, joint_axes=joint_axes)
+def log_vehicle_model(rec, motorcycle, road_test, joint_axes):
+    """The motorcycle from the vehicle engine: ``motorcycle`` = (MotorcycleMotion,
+    description) computed by the caller (:mod:`motoflex_ros.vehicle.animation`); without the
+    road test or the joint axes when the bag has them."""
+    from dataclasses import replace
+
+    from motoflex_ros.record.rerun_motorcycle import log_motorcycle
+    motion, description = motorcycle
+    log_motorcycle(rec, motion if road_test else replace(motion, road=None),
+                   joint_axes=joint_axes)
     rec.log("/vehicle/model", rr.TextDocument(f"Motorcycle: {description}."), static=True)
     return [f"vehicle model: {description}"]
