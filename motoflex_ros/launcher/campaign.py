@@ -14,12 +14,13 @@ from pathlib import Path
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.launcher.graph import NodeSpec
 from motoflex_ros.launcher.run import RunFailed, run_graph, work_folder
+from motoflex_ros.record.tf_bag import TF_LIVE, TF_STATIC_LIVE
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
            "planned_duration", "RESULT_FILE", "VEHICLE_COMPONENTS", "VEHICLE_VARIANT"]
 
 RESULT_FILE = "identification.json"
-BENCH_LEAVES = ("load", "phase", "markers/true", "markers/measured", "pose")
+BENCH_LEAVES = ("load", "phase", "markers/true", "markers/measured", "pose", "structure")
 
 
 @dataclass(frozen=True)
@@ -36,7 +37,7 @@ class CampaignOutcome:
 
 
 VEHICLE_TOPICS = ("/vehicle/eigenvalues", "/vehicle/joint_states", "/vehicle/bodies",
-                  "/vehicle/joint_axes")
+                  "/vehicle/joint_axes", TF_LIVE)
 VEHICLE_COMPONENTS = MOTORCYCLE_COMPONENTS
 VEHICLE_VARIANT = "static"
 """The lumped variant (Sect. 5.2) the campaign's vehicle_simulator builds of the identified
@@ -51,7 +52,7 @@ def with_vehicle(components):
 def campaign_topics(components):
     """Every topic the campaign records."""
     vehicle = list(VEHICLE_TOPICS) if with_vehicle(components) else []
-    return ["/clock", "/identification/results"] + [
+    return ["/clock", "/identification/results", TF_STATIC_LIVE] + [
         f"/bench/{c}/{leaf}" for c in components for leaf in BENCH_LEAVES] + vehicle
 
 

@@ -26,7 +26,7 @@ __all__ = ["time_msg", "time_ns", "clock_msg", "seconds_to_ns", "clock_ns_from_c
            "pose_msg", "identification_statuses", "results_from_statuses", "quaternion_xyzw",
            "mode_statuses", "joint_state_msg", "poses_msg", "axis_marker", "points_cdr",
            "points_from_cdr", "wrench_cdr", "wrench_from_cdr", "phase_cdr", "phase_text",
-           "pose_cdr", "is_end_marker"]
+           "pose_cdr", "is_end_marker", "transform_msg", "structure_markers"]
 
 NS_PER_S = 1_000_000_000
 
@@ -276,6 +276,43 @@ def axis_marker(marker_id, frame_id, name, point, axis, length=0.5):
     marker.color.r, marker.color.g, marker.color.b, marker.color.a = 0.9, 0.4, 0.1, 1.0
     marker.pose.orientation.w = 1.0
     return marker
+
+
+def transform_msg(ns, transform):
+    """geometry_msgs/TransformStamped of a :class:`motoflex_ros.frames.FrameTransform`
+    (header frame: the parent, child_frame_id: the child; what a tf2_msgs/TFMessage holds)."""
+    from geometry_msgs.msg import TransformStamped
+    msg = TransformStamped(child_frame_id=transform.child)
+    msg.header.stamp = time_msg(ns)
+    msg.header.frame_id = transform.parent
+    t = msg.transform.translation
+    t.x, t.y, t.z = map(float, transform.translation)
+    x, y, z, w = quaternion_xyzw(transform.rotation)
+    r = msg.transform.rotation
+    r.x, r.y, r.z, r.w = float(x), float(y), float(z), float(w)
+    return msg
+
+
+def structure_markers(frame_id, name, node_xyz, elements, radius=0.004):
+    """visualization_msgs/MarkerArray of a beam model: its members (LINE_LIST, one segment per
+    element between its two nodes) and its nodes (SPHERE_LIST), coordinates [m] in
+    ``frame_id``; ``name`` is the markers' namespace."""
+    from geometry_msgs.msg import Point
+    from visualization_msgs.msg import Marker, MarkerArray
+    xyz = np.asarray(node_xyz, float)
+    members = Marker(ns=f"{name}/members", id=0, type=Marker.LINE_LIST, action=Marker.ADD)
+    members.points = [Point(x=float(a), y=float(b), z=float(c))
+                      for a, b, c in xyz[np.asarray(elements, int).reshape(-1)]]
+    members.scale.x = radius
+    members.color.r, members.color.g, members.color.b, members.color.a = 0.6, 0.6, 0.65, 1.0
+    nodes = Marker(ns=f"{name}/nodes", id=1, type=Marker.SPHERE_LIST, action=Marker.ADD)
+    nodes.points = [Point(x=float(a), y=float(b), z=float(c)) for a, b, c in xyz]
+    nodes.scale.x = nodes.scale.y = nodes.scale.z = 3 * radius
+    nodes.color.r, nodes.color.g, nodes.color.b, nodes.color.a = 0.2, 0.4, 0.9, 1.0
+    for marker in (members, nodes):
+        marker.header.frame_id = frame_id
+        marker.pose.orientation.w = 1.0
+    return MarkerArray(markers=[members, nodes])
 
 
 # --- fast paths: the bench's per-sample messages as CDR bytes ------------------------------

@@ -8,14 +8,20 @@ a killed recorder leaves an MCAP that ``motoflex bag repair`` salvages. With ``a
 recorder acknowledges recorded /clock times on /rig/ack, so a pacing source never outruns it;
 without, it lets messages gather for ``batch_period`` between two waits (fewer wake-ups, less
 CPU; the readers' keep-all queues hold them meanwhile).
+
+Each topic is subscribed with the durability its publishers offer (transient local when all of
+them offer it, as ``ros2 bag record`` does: latched messages sent before the recorder came are
+recorded too). The rig's transforms, TransformStamped on /rig/tf and /rig/tf_static, go into
+the bag as /tf and /tf_static (tf2_msgs/msg/TFMessage: :mod:`motoflex_ros.record.tf_bag`).
 """
 import sys
 import time
 
 from motoflex_ros.nodes.conversions import clock_ns_from_cdr
 from motoflex_ros.nodes.params import Param, ParameterError
-from motoflex_ros.nodes.runtime import RigNode, message_class, run_node
+from motoflex_ros.nodes.runtime import RigNode, message_class, reliable_qos, run_node
 from motoflex_ros.record.mcap_bag import BagWriter
+from motoflex_ros.record.tf_bag import TF_TOPICS, TF_TYPE, TfBatcher
 
 __all__ = ["Recorder", "main", "IGNORED_PREFIXES"]
 
@@ -48,6 +54,7 @@ class Recorder(RigNode):
                                 compression=p["compression"])
         self.wanted = tuple(p["topics"])
         self.recorded = {}
+        self.batchers = []
         self._next_discovery = 0.0
         self.discover()
 
@@ -57,16 +64,21 @@ class Recorder(RigNode):
             if topic in self.recorded or not self._wants(topic):
                 continue
             type_name = types[0]
-            self.writer.add_topic(topic, type_name)
-            callback = self._clock_callback if topic == "/clock" else self._callback(topic)
-            self.subscribe(message_class(type_name), topic, callback, raw=True)
+            if topic in TF_TOPICS:
+                self.writer.add_topic(TF_TOPICS[topic], TF_TYPE)
+                callback = self._tf_callback(topic)
+            else:
+                self.writer.add_topic(topic, type_name)
+                callback = self._clock_callback if topic == "/clock" else self._callback(topic)
+            self.subscribe(message_class(type_name), topic, callback, raw=True,
+                           qos=self._qos_for(topic))
             self.recorded[topic] = type_name
         self._next_discovery = time.monotonic() + self.params["discovery_period"]
 
     def _wants(self, topic):
         if self.wanted:
             return topic in self.wanted
-        return not topic.startswith(IGNORED_PREFIXES)
+        return topic in TF_TOPICS or not topic.startswith(IGNORED_PREFIXES)
 
     def _callback(self, topic):
         write = self.writer.write
@@ -74,6 +86,24 @@ class Recorder(RigNode):
         def record(data):
             write(topic, time.time_ns(), data)
         return record
+
+    def _tf_callback(self, topic):
+        bag_topic = TF_TOPICS[topic]
+        batcher = TfBatcher(lambda ns, data: self.writer.write(bag_topic, ns, data))
+        self.batchers.append(batcher)
+
+        def record(data):
+            batcher.add(time.time_ns(), data)
+        return record
+
+    def _qos_for(self, topic):
+        """Reliable keep-all, transient local if every publisher of ``topic`` offers it."""
+        from rclpy.qos import DurabilityPolicy
+        qos = reliable_qos()
+        offered = [info.qos_profile for info in self.get_publishers_info_by_topic(topic)]
+        if offered and all(q.durability == DurabilityPolicy.TRANSIENT_LOCAL for q in offered):
+            qos.durability = DurabilityPolicy.TRANSIENT_LOCAL
+        return qos
 
     def _clock_callback(self, data):
         self.writer.write("/clock", time.time_ns(), data)
@@ -95,11 +125,15 @@ class Recorder(RigNode):
         if time.monotonic() >= self._next_discovery:
             self.discover()
         super().step(spinner)
+        for batcher in self.batchers:
+            batcher.flush()
         if not self.params["ack"] and self.params["batch_period"] > 0:
             time.sleep(self.params["batch_period"])
 
     def close(self, reason):
         """Finish the MCAP file and write metadata.yaml."""
+        for batcher in self.batchers:
+            batcher.flush()
         self.writer.close()
         self.get_logger().info(f"bag {self.writer.path} closed ({reason}): "
                                f"{self.writer.message_count} messages")
