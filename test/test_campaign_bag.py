@@ -5,7 +5,8 @@ bag is then read with rosbags alone, no project code: its tf tree (/tf, /tf_stat
 tf2_msgs/msg/TFMessage) links every frame id used in the bag to one root, /vehicle/bodies holds
 one pose per body that the named tf frames reproduce, and the poses follow the road test: the
 main frame body's roll is /vehicle/joint_states' roll and the bodies above and below it move
-sideways by their height times the sine of the roll.
+sideways by their height times the sine of the roll; each topic's QoS in metadata.yaml is what
+its publisher offered (the latched ones transient local, so a replay keeps them latched).
 """
 import os
 import subprocess
@@ -14,6 +15,7 @@ from collections import defaultdict
 
 import numpy as np
 import pytest
+import yaml
 from scipy.spatial.transform import Rotation
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
@@ -140,3 +142,33 @@ def test_bodies_are_distinct_named_and_follow_the_road_test(messages):
         if abs(offsets[0, b, 2]) > 0.15:
             expected = -offsets[:, b, 2] * np.sin(phi)
             assert np.corrcoef(side[:, b], expected)[0, 1] > 0.9, b
+
+
+# what the nodes' code offers: reliable everywhere; transient local on the latched topics. DDS
+# discovery carries reliability, durability, deadline, lifespan and liveliness, not history and
+# depth (rosbag2 records those as 3 "unknown" and 0, and so does the recorder)
+RELIABLE, TRANSIENT_LOCAL, VOLATILE, AUTOMATIC = 1, 1, 2, 1
+INFINITE = {"sec": 9223372036, "nsec": 854775807}
+LATCHED = {"/vehicle/eigenvalues", "/vehicle/joint_axes", "/identification/results",
+           "/tf_static", *(f"/bench/{c}/structure" for c in ("frame", "front_assembly",
+                                                             "swingarm"))}
+
+
+def test_each_topic_keeps_the_qos_its_publisher_offered(bag):
+    from rosbags.rosbag2 import Reader
+    meta = yaml.safe_load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    topics = {t["topic_metadata"]["name"]: t["topic_metadata"]
+              for t in meta["topics_with_message_count"]}
+    assert set(LATCHED) <= set(topics) and len(topics) > 20
+    for name, topic in topics.items():
+        profiles = yaml.safe_load(topic["offered_qos_profiles"])
+        assert profiles, name
+        for profile in profiles:
+            assert profile["durability"] == (TRANSIENT_LOCAL if name in LATCHED
+                                             else VOLATILE), (name, profile)
+            assert (profile["reliability"], profile["liveliness"]) == (RELIABLE, AUTOMATIC)
+            assert profile["deadline"] == profile["lifespan"] == INFINITE, (name, profile)
+    with Reader(bag) as reader:   # rosbags reads the same profiles
+        durability = {c.topic: {q.durability.value for q in c.ext.offered_qos_profiles}
+                      for c in reader.connections}
+    assert {t for t, d in durability.items() if d == {TRANSIENT_LOCAL}} == set(LATCHED)

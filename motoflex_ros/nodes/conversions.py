@@ -26,7 +26,7 @@ __all__ = ["time_msg", "time_ns", "clock_msg", "seconds_to_ns", "clock_ns_from_c
            "pose_msg", "identification_statuses", "results_from_statuses", "quaternion_xyzw",
            "mode_statuses", "joint_state_msg", "poses_msg", "axis_marker", "points_cdr",
            "points_from_cdr", "wrench_cdr", "wrench_from_cdr", "phase_cdr", "phase_text",
-           "pose_cdr", "is_end_marker", "transform_msg", "structure_markers"]
+           "pose_cdr", "is_end_marker", "transform_msg", "structure_markers", "qos_dict"]
 
 NS_PER_S = 1_000_000_000
 
@@ -313,6 +313,18 @@ def structure_markers(frame_id, name, node_xyz, elements, radius=0.004):
         marker.header.frame_id = frame_id
         marker.pose.orientation.w = 1.0
     return MarkerArray(markers=[members, nodes])
+
+
+def qos_dict(profile):
+    """The numbers of an rclpy QoSProfile as rosbag2 stores them (enum values, durations
+    [ns]; :func:`motoflex_ros.record.mcap_bag.qos_yaml`)."""
+    return {"history": int(profile.history.value), "depth": int(profile.depth),
+            "reliability": int(profile.reliability.value),
+            "durability": int(profile.durability.value),
+            "deadline": profile.deadline.nanoseconds, "lifespan": profile.lifespan.nanoseconds,
+            "liveliness": int(profile.liveliness.value),
+            "liveliness_lease_duration": profile.liveliness_lease_duration.nanoseconds,
+            "avoid_ros_namespace_conventions": bool(profile.avoid_ros_namespace_conventions)}
 
 
 # --- fast paths: the bench's per-sample messages as CDR bytes ------------------------------

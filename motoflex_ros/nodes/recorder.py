@@ -1,23 +1,24 @@
 """recorder: writes every topic of a run to a rosbag2 MCAP bag (``bag`` parameter: directory).
 
 Subscribes raw (serialized CDR bytes, no deserialization) to the topics listed in ``topics``,
-or, if that list is empty, to every topic it discovers except the rig's own /rig/* and the
-ROS bookkeeping topics. Each message is stamped with its receive time [ns] (as rosbag2 does).
-The MCAP file is finished and metadata.yaml written on SIGINT, SIGTERM and at the end of a run;
-a killed recorder leaves an MCAP that ``motoflex bag repair`` salvages. With ``ack`` the
-recorder acknowledges recorded /clock times on /rig/ack, so a pacing source never outruns it;
-without, it lets messages gather for ``batch_period`` between two waits (fewer wake-ups, less
-CPU; the readers' keep-all queues hold them meanwhile).
+once they have a publisher, or, if that list is empty, to every topic it discovers except the
+rig's own /rig/* and the ROS bookkeeping topics. Each message is stamped with its receive time
+[ns] (as rosbag2 does). The MCAP file is finished and metadata.yaml written on SIGINT, SIGTERM
+and at the end of a run; a killed recorder leaves an MCAP that ``motoflex bag repair``
+salvages. With ``ack`` the recorder acknowledges recorded /clock times on /rig/ack, so a
+pacing source never outruns it; without, it lets messages gather for ``batch_period`` between
+two waits (fewer wake-ups, less CPU; the readers' keep-all queues hold them meanwhile).
 
-Each topic is subscribed with the durability its publishers offer (transient local when all of
-them offer it, as ``ros2 bag record`` does: latched messages sent before the recorder came are
-recorded too). The rig's transforms, TransformStamped on /rig/tf and /rig/tf_static, go into
+Each topic is recorded with the QoS profiles its publishers offer (metadata.yaml, as
+``ros2 bag record`` does: a replay offers them again) and subscribed with their durability
+(transient local when all of them offer it: latched messages sent before the recorder came
+are recorded too). The rig's transforms, TransformStamped on /rig/tf and /rig/tf_static, go into
 the bag as /tf and /tf_static (tf2_msgs/msg/TFMessage: :mod:`motoflex_ros.record.tf_bag`).
 """
 import sys
 import time
 
-from motoflex_ros.nodes.conversions import clock_ns_from_cdr
+from motoflex_ros.nodes.conversions import clock_ns_from_cdr, qos_dict
 from motoflex_ros.nodes.params import Param, ParameterError
 from motoflex_ros.nodes.runtime import RigNode, message_class, reliable_qos, run_node
 from motoflex_ros.record.mcap_bag import BagWriter
@@ -64,14 +65,17 @@ class Recorder(RigNode):
             if topic in self.recorded or not self._wants(topic):
                 continue
             type_name = types[0]
+            offered = self._offered(topic)
+            if not offered:   # only subscribers so far: wait for a publisher and its QoS
+                continue
             if topic in TF_TOPICS:
-                self.writer.add_topic(TF_TOPICS[topic], TF_TYPE)
+                self.writer.add_topic(TF_TOPICS[topic], TF_TYPE, offered)
                 callback = self._tf_callback(topic)
             else:
-                self.writer.add_topic(topic, type_name)
+                self.writer.add_topic(topic, type_name, offered)
                 callback = self._clock_callback if topic == "/clock" else self._callback(topic)
             self.subscribe(message_class(type_name), topic, callback, raw=True,
-                           qos=self._qos_for(topic))
+                           qos=self._qos_for(offered))
             self.recorded[topic] = type_name
         self._next_discovery = time.monotonic() + self.params["discovery_period"]
 
@@ -96,12 +100,21 @@ class Recorder(RigNode):
             batcher.add(time.time_ns(), data)
         return record
 
-    def _qos_for(self, topic):
-        """Reliable keep-all, transient local if every publisher of ``topic`` offers it."""
+    def _offered(self, topic):
+        """The distinct QoS profiles the publishers of ``topic`` offer (rosbag2's numbers)."""
+        profiles = []
+        for info in self.get_publishers_info_by_topic(topic):
+            profile = qos_dict(info.qos_profile)
+            if profile not in profiles:
+                profiles.append(profile)
+        return profiles
+
+    @staticmethod
+    def _qos_for(offered):
+        """Reliable keep-all, transient local if every offered profile is (as rosbag2)."""
         from rclpy.qos import DurabilityPolicy
         qos = reliable_qos()
-        offered = [info.qos_profile for info in self.get_publishers_info_by_topic(topic)]
-        if offered and all(q.durability == DurabilityPolicy.TRANSIENT_LOCAL for q in offered):
+        if all(p["durability"] == DurabilityPolicy.TRANSIENT_LOCAL.value for p in offered):
             qos.durability = DurabilityPolicy.TRANSIENT_LOCAL
         return qos
 
