@@ -149,9 +149,13 @@ def test_bodies_are_distinct_named_and_follow_the_road_test(messages):
 # depth (rosbag2 records those as 3 "unknown" and 0, and so does the recorder)
 RELIABLE, TRANSIENT_LOCAL, VOLATILE, AUTOMATIC = 1, 1, 2, 1
 INFINITE = {"sec": 9223372036, "nsec": 854775807}
+COMPONENTS = ("frame", "front_assembly", "swingarm")
 LATCHED = {"/vehicle/eigenvalues", "/vehicle/joint_axes", "/identification/results",
-           "/tf_static", *(f"/bench/{c}/structure" for c in ("frame", "front_assembly",
-                                                             "swingarm"))}
+           "/tf_static", *(f"/bench/{c}/structure" for c in COMPONENTS),
+           *(f"/identification/{c}/{q}" for c in COMPONENTS for q in ("k", "l", "beta")),
+           "/vehicle/modes/speed_kmh", *(f"/vehicle/modes/{m}/{q}" for m in
+                                         ("weave", "wobble", "capsize")
+                                         for q in ("frequency_hz", "real_part"))}
 
 
 def test_each_topic_keeps_the_qos_its_publisher_offered(bag):
@@ -172,3 +176,35 @@ def test_each_topic_keeps_the_qos_its_publisher_offered(bag):
         durability = {c.topic: {q.durability.value for q in c.ext.offered_qos_profiles}
                       for c in reader.connections}
     assert {t for t, d in durability.items() if d == {TRANSIENT_LOCAL}} == set(LATCHED)
+
+
+def _series(messages, topic):
+    (msg,) = messages[topic]
+    assert len(msg.layout.dim) == 1 and msg.layout.dim[0].size == len(msg.data) > 0, topic
+    return np.asarray(msg.data, float), msg.layout.dim[0].label
+
+
+def test_results_as_numbers_a_plot_panel_draws(bag, messages):
+    """Weave and wobble against speed and k, l, beta per component as Float64MultiArray,
+    equal to the JSON forms (/vehicle/eigenvalues, identification.json) that other code
+    reads."""
+    import json
+    speeds, label = _series(messages, "/vehicle/modes/speed_kmh")
+    assert "km/h" in label
+    (eig,) = messages["/vehicle/eigenvalues"]
+    modes = {s.name.split("/")[1]: {kv.key: json.loads(kv.value) for kv in s.values}
+             for s in eig.status}
+    for mode in ("weave", "wobble"):
+        np.testing.assert_array_equal(speeds, modes[mode]["speeds_kmh"])
+        for quantity, key in (("frequency_hz", "frequency_hz"), ("real_part", "real")):
+            values, label = _series(messages, f"/vehicle/modes/{mode}/{quantity}")
+            expected = np.array([np.nan if v is None else v for v in modes[mode][key]])
+            np.testing.assert_array_equal(values, expected)
+            assert np.isfinite(values).sum() > len(values) // 2 and mode in label
+    identified = json.loads((bag / "identification.json").read_text())
+    for component, result in identified.items():
+        for quantity, unit in (("k", "N m/rad"), ("l", "m"), ("beta", "rad")):
+            values, label = _series(messages, f"/identification/{component}/{quantity}")
+            assert f"[{unit}]" in label and "static, torsion, bending" in label
+            np.testing.assert_array_equal(values, [result[m][quantity]
+                                                   for m in ("static", "torsion", "bending")])

@@ -36,8 +36,12 @@ class CampaignOutcome:
     vehicle: dict
 
 
+MODES = ("weave", "wobble", "capsize")
 VEHICLE_TOPICS = ("/vehicle/eigenvalues", "/vehicle/joint_states", "/vehicle/bodies",
-                  "/vehicle/joint_axes", TF_LIVE)
+                  "/vehicle/joint_axes", TF_LIVE, "/vehicle/modes/speed_kmh",
+                  *(f"/vehicle/modes/{m}/{q}" for m in MODES for q in ("frequency_hz",
+                                                                      "real_part")))
+
 VEHICLE_COMPONENTS = MOTORCYCLE_COMPONENTS
 VEHICLE_VARIANT = "static"
 """The lumped variant (Sect. 5.2) the campaign's vehicle_simulator builds of the identified
@@ -53,7 +57,14 @@ def campaign_topics(components):
     """Every topic the campaign records."""
     vehicle = list(VEHICLE_TOPICS) if with_vehicle(components) else []
     return ["/clock", "/identification/results", TF_STATIC_LIVE] + [
-        f"/bench/{c}/{leaf}" for c in components for leaf in BENCH_LEAVES] + vehicle
+        f"/bench/{c}/{leaf}" for c in components for leaf in BENCH_LEAVES] + \
+        identified_topics(components) + vehicle
+
+
+def identified_topics(components):
+    """The numeric identification topics /identification/<c>/{k, l, beta}."""
+    from motoflex_ros.nodes.conversions import IDENTIFIED_UNITS
+    return [f"/identification/{c}/{q}" for c in components for q in IDENTIFIED_UNITS]
 
 
 def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_file=None):
@@ -72,7 +83,8 @@ def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_fi
         NodeSpec("identification", {**bench,
                                     "result_file": str(result_file or Path(bag) / RESULT_FILE)}),
         NodeSpec("recorder", {"bag": str(bag), "topics": campaign_topics(components),
-                              "late_topics": ["/identification/results", *VEHICLE_TOPICS]}),
+                              "late_topics": ["/identification/results", *VEHICLE_TOPICS,
+                                              *identified_topics(components)]}),
     ]
 
 

@@ -26,7 +26,9 @@ __all__ = ["time_msg", "time_ns", "clock_msg", "seconds_to_ns", "clock_ns_from_c
            "pose_msg", "identification_statuses", "results_from_statuses", "quaternion_xyzw",
            "mode_statuses", "joint_state_msg", "poses_msg", "axis_marker", "points_cdr",
            "points_from_cdr", "wrench_cdr", "wrench_from_cdr", "phase_cdr", "phase_text",
-           "pose_cdr", "is_end_marker", "transform_msg", "structure_markers", "qos_dict"]
+           "pose_cdr", "is_end_marker", "transform_msg", "structure_markers", "qos_dict",
+           "series_msg", "IDENTIFIED_MODELS", "IDENTIFIED_UNITS", "identified_series",
+           "mode_series"]
 
 NS_PER_S = 1_000_000_000
 
@@ -235,6 +237,46 @@ def mode_statuses(speeds_mps, modes):
                 KeyValue(key="real", value=json.dumps(real)),
                 KeyValue(key="frequency_hz", value=json.dumps(freq))]))
     return statuses
+
+
+def series_msg(values, label):
+    """std_msgs/Float64MultiArray of ``values`` (NaN where None) along one dimension named
+    ``label`` (what the elements are, with units): a plot panel draws it against its index or
+    against another such array (Foxglove: x axis 'path')."""
+    from std_msgs.msg import Float64MultiArray, MultiArrayDimension
+    data = [math.nan if v is None else float(v) for v in values]
+    msg = Float64MultiArray(data=data)
+    msg.layout.dim = [MultiArrayDimension(label=label, size=len(data), stride=len(data))]
+    return msg
+
+
+IDENTIFIED_MODELS = ("static", "torsion", "bending")
+IDENTIFIED_UNITS = {"k": "N m/rad", "l": "m", "beta": "rad"}
+
+
+def identified_series(result_dict):
+    """{quantity: Float64MultiArray} of a component's result dict: k [N m/rad], l [m] and
+    beta [rad] of the static, torsion and bending models, in that order."""
+    return {q: series_msg([result_dict.get(m, {}).get(q) for m in IDENTIFIED_MODELS],
+                          f"{q} [{unit}] of the models {', '.join(IDENTIFIED_MODELS)}")
+            for q, unit in IDENTIFIED_UNITS.items()}
+
+
+def mode_series(speeds_mps, modes):
+    """{name: Float64MultiArray}: 'speed_kmh' and per tracked mode '<mode>/frequency_hz' and
+    '<mode>/real_part' [1/s] over those speeds (NaN where the mode is not found): the same
+    numbers as :func:`mode_statuses`, as arrays a plot panel draws against speed."""
+    out = {"speed_kmh": series_msg([3.6 * v for v in speeds_mps], "speed [km/h]")}
+    for name, values in modes.items():
+        values = np.asarray(values, complex)
+        ok = np.isfinite(values)
+        out[f"{name}/frequency_hz"] = series_msg(
+            [v.imag / (2 * math.pi) if f else None for v, f in zip(values, ok)],
+            f"{name} frequency [Hz] at each speed of /vehicle/modes/speed_kmh")
+        out[f"{name}/real_part"] = series_msg(
+            [v.real if f else None for v, f in zip(values, ok)],
+            f"{name} real part [1/s] at each speed of /vehicle/modes/speed_kmh")
+    return out
 
 
 def joint_state_msg(ns, names, positions, velocities, efforts):

@@ -6,6 +6,8 @@ run's identification node only, or from ``result_file`` if given), builds the lu
 
 - /vehicle/eigenvalues (diagnostic_msgs/DiagnosticArray): weave, wobble and capsize eigenvalues
   from ``speed_min_kmh`` to ``speed_max_kmh`` (step ``speed_step_kmh``), tracked by mode shape;
+  the same numbers as arrays a plot panel draws against speed (std_msgs/Float64MultiArray,
+  latched): /vehicle/modes/speed_kmh and /vehicle/modes/<mode>/{frequency_hz, real_part};
 - the steer-torque pulse road test at ``road_speed_kmh``: /vehicle/joint_states
   (sensor_msgs/JointState: joint angles, rates, applied torques; every sample of the response,
   200 Hz) and /vehicle/bodies (geometry_msgs/PoseArray: the pose of each body with mass at its
@@ -28,6 +30,7 @@ import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseArray
 from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64MultiArray
 from visualization_msgs.msg import Marker
 
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
@@ -41,6 +44,7 @@ from motoflex_ros.frames import (
 from motoflex_ros.nodes.conversions import (
     axis_marker,
     joint_state_msg,
+    mode_series,
     mode_statuses,
     poses_msg,
     results_from_statuses,
@@ -100,6 +104,7 @@ class VehicleSimulatorNode(RigNode):
         self.bodies_pub = self.advertise(PoseArray, "/vehicle/bodies")
         self.axes_pub = self.create_publisher(Marker, "/vehicle/joint_axes", latched_qos())
         self.tf = TfPublisher(self, dynamic=True)
+        self.series_pubs = []
         self.tf.static([road_transform()])
         if p["result_file"]:
             try:
@@ -143,6 +148,11 @@ class VehicleSimulatorNode(RigNode):
                            p["speed_step_kmh"]) / 3.6
         sweep = modal_sweep(lin, speeds)
         self.eig_pub.publish(DiagnosticArray(status=mode_statuses(speeds, sweep.modes)))
+        for name, series in mode_series(speeds, sweep.modes).items():
+            pub = self.create_publisher(Float64MultiArray, f"/vehicle/modes/{name}",
+                                        latched_qos(1))
+            pub.publish(series)
+            self.series_pubs.append(pub)
         for k, joint in enumerate(j for j in model.joints if j.kind == "revolute"):
             self.axes_pub.publish(axis_marker(k, FRAME, joint.name, joint.point, joint.axis))
         self._road_test(lin, model, p["road_speed_kmh"] / 3.6, p["bodies_rate_hz"])
