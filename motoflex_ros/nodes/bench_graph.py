@@ -28,8 +28,8 @@ BENCH_PARAMS = (
 
 
 def topic(component, leaf):
-    """/bench/<component>/<leaf>."""
-    return f"/bench/{component}/{leaf}"
+    """bench/<component>/<leaf> (relative: under the node's namespace)."""
+    return f"bench/{component}/{leaf}"
 
 
 def frame_id(component):

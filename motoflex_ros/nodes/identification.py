@@ -38,7 +38,7 @@ from motoflex_ros.results_file import write_results
 
 __all__ = ["IdentificationNode", "main", "RESULTS_TOPIC"]
 
-RESULTS_TOPIC = "/identification/results"
+RESULTS_TOPIC = "identification/results"
 
 
 class IdentificationNode(RigNode):
@@ -67,7 +67,7 @@ class IdentificationNode(RigNode):
         self.ack_pub = self.advertise(KeyValue, ACK_TOPIC)
         self.results_pub = self.create_publisher(DiagnosticArray, RESULTS_TOPIC, latched_qos())
         self.series_pubs = {(c, q): self.create_publisher(
-            Float64MultiArray, f"/identification/{c}/{q}", latched_qos(1))
+            Float64MultiArray, f"identification/{c}/{q}", latched_qos(1))
             for c in self.setups for q in IDENTIFIED_UNITS}
         for c in self.setups:
             join = SampleJoin("phase", ("load", "measured"), self._handler(c),

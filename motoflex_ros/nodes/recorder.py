@@ -9,6 +9,10 @@ salvages. With ``ack`` the recorder acknowledges recorded /clock times on /rig/a
 pacing source never outruns it; without, it lets messages gather for ``batch_period`` between
 two waits (fewer wake-ups, less CPU; the readers' keep-all queues hold them meanwhile).
 
+Under a namespace (``-r __ns:=/rig_a``) it records that rig's topics only, and names them in the
+bag as from the rig's root (/rig_a/bench/x as /bench/x), so that replay, conversion and report
+read a namespaced run like any other; ``motoflex replay`` republishes it under any namespace.
+
 Each topic is recorded with the QoS profiles its publishers offer (metadata.yaml, as
 ``ros2 bag record`` does: a replay offers them again) and subscribed with their durability
 (transient local when all of them offer it: latched messages sent before the recorder came
@@ -35,7 +39,8 @@ class Recorder(RigNode):
     NAME = "recorder"
     PARAMS = (
         Param("bag", "", description="bag directory to create (must not exist)"),
-        Param("topics", (), description="topics to record (empty: every topic discovered)"),
+        Param("topics", (), description="topics to record, under the node's namespace "
+              "(empty: every topic discovered there)"),
         Param("late_topics", (), description="topics of ``topics`` that may appear after the "
               "run started (not waited for)"),
         Param("chunk_size", 262144, 4096, 64 * 2**20, description="MCAP chunk size [bytes]"),
@@ -53,7 +58,8 @@ class Recorder(RigNode):
             raise ParameterError("node 'recorder': parameter 'bag' is required (bag directory)")
         self.writer = BagWriter(p["bag"], chunk_size=p["chunk_size"],
                                 compression=p["compression"])
-        self.wanted = tuple(p["topics"])
+        self.wanted = tuple(_rooted(t) for t in p["topics"])
+        self.late = {_rooted(t) for t in p["late_topics"]}
         self.recorded = {}
         self.batchers = []
         self._next_discovery = 0.0
@@ -61,11 +67,12 @@ class Recorder(RigNode):
 
     def discover(self):
         """Subscribe to every wanted topic that has appeared on the graph."""
-        for topic, types in self.get_topic_names_and_types():
-            if topic in self.recorded or not self._wants(topic):
+        for name, types in self.get_topic_names_and_types():
+            topic = self.in_rig(name)
+            if topic is None or topic in self.recorded or not self._wants(topic):
                 continue
             type_name = types[0]
-            offered = self._offered(topic)
+            offered = self._offered(name)
             if not offered:   # only subscribers so far: wait for a publisher and its QoS
                 continue
             if topic in TF_TOPICS:
@@ -74,10 +81,19 @@ class Recorder(RigNode):
             else:
                 self.writer.add_topic(topic, type_name, offered)
                 callback = self._clock_callback if topic == "/clock" else self._callback(topic)
-            self.subscribe(message_class(type_name), topic, callback, raw=True,
+            self.subscribe(message_class(type_name), name, callback, raw=True,
                            qos=self._qos_for(offered))
             self.recorded[topic] = type_name
         self._next_discovery = time.monotonic() + self.params["discovery_period"]
+
+    def in_rig(self, name):
+        """The topic ``name`` (fully qualified) as the bag names it: relative to this node's
+        namespace, from '/' (``/rig_a/bench/x`` -> ``/bench/x`` under /rig_a); None for a
+        topic of another namespace."""
+        namespace = self.get_namespace().rstrip("/")
+        if not namespace:
+            return name
+        return name[len(namespace):] if name.startswith(namespace + "/") else None
 
     def _wants(self, topic):
         if self.wanted:
@@ -127,11 +143,11 @@ class Recorder(RigNode):
         """Ready when every listed topic (discovery mode: at least one topic) is subscribed
         and sees a publisher.
         """
-        late = set(self.params["late_topics"])
+        late = self.late
         listed = (all(t in self.recorded for t in self.wanted if t not in late) if self.wanted
                   else self.recorded)
         return bool(listed) and all(sub.get_publisher_count() > 0 for sub in self._checked
-                                    if sub.topic_name not in late)
+                                    if self.in_rig(sub.topic_name) not in late)
 
     def step(self, spinner):
         """Record what arrived; look for new topics now and then."""
@@ -151,6 +167,11 @@ class Recorder(RigNode):
         self.get_logger().info(f"bag {self.writer.path} closed ({reason}): "
                                f"{self.writer.message_count} messages")
         super().close(reason)
+
+
+def _rooted(topic):
+    """A listed topic name from the rig's root: 'bench/x' and '/bench/x' are '/bench/x'."""
+    return "/" + topic.lstrip("/")
 
 
 def main(args=None):

@@ -98,11 +98,11 @@ class VehicleSimulatorNode(RigNode):
         self.components = {n: load_component(n) for n in p["components"]}
         self.identified = {}
         self.waiting = Waiting(self)
-        self.eig_pub = self.create_publisher(DiagnosticArray, "/vehicle/eigenvalues",
+        self.eig_pub = self.create_publisher(DiagnosticArray, "vehicle/eigenvalues",
                                              latched_qos())
-        self.joints_pub = self.advertise(JointState, "/vehicle/joint_states")
-        self.bodies_pub = self.advertise(PoseArray, "/vehicle/bodies")
-        self.axes_pub = self.create_publisher(Marker, "/vehicle/joint_axes", latched_qos())
+        self.joints_pub = self.advertise(JointState, "vehicle/joint_states")
+        self.bodies_pub = self.advertise(PoseArray, "vehicle/bodies")
+        self.axes_pub = self.create_publisher(Marker, "vehicle/joint_axes", latched_qos())
         self.tf = TfPublisher(self, dynamic=True)
         self.series_pubs = []
         self.tf.static([road_transform()])
@@ -113,7 +113,7 @@ class VehicleSimulatorNode(RigNode):
                 raise ParameterError(f"node '{self.get_name()}': parameter 'result_file': "
                                      f"{exc}") from None
         else:
-            self.subscribe(DiagnosticArray, "/identification/results", self._on_results,
+            self.subscribe(DiagnosticArray, "identification/results", self._on_results,
                            qos=latched_qos(), publishers=("identification",))
 
     def _on_results(self, msg):
@@ -149,7 +149,7 @@ class VehicleSimulatorNode(RigNode):
         sweep = modal_sweep(lin, speeds)
         self.eig_pub.publish(DiagnosticArray(status=mode_statuses(speeds, sweep.modes)))
         for name, series in mode_series(speeds, sweep.modes).items():
-            pub = self.create_publisher(Float64MultiArray, f"/vehicle/modes/{name}",
+            pub = self.create_publisher(Float64MultiArray, f"vehicle/modes/{name}",
                                         latched_qos(1))
             pub.publish(series)
             self.series_pubs.append(pub)

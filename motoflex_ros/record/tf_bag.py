@@ -12,9 +12,9 @@ import functools
 
 __all__ = ["TF_LIVE", "TF_STATIC_LIVE", "TF_TOPICS", "TF_TYPE", "LIVE_TYPE", "TfBatcher"]
 
-TF_LIVE = "/rig/tf"
-TF_STATIC_LIVE = "/rig/tf_static"
-TF_TOPICS = {TF_LIVE: "/tf", TF_STATIC_LIVE: "/tf_static"}   # live topic -> bag topic
+TF_LIVE = "rig/tf"                # relative: under the node's namespace
+TF_STATIC_LIVE = "rig/tf_static"
+TF_TOPICS = {"/rig/tf": "/tf", "/rig/tf_static": "/tf_static"}   # live (rig root) -> bag
 TF_TYPE = "tf2_msgs/msg/TFMessage"
 LIVE_TYPE = "geometry_msgs/msg/TransformStamped"
 
