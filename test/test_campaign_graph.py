@@ -105,6 +105,10 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     assert {t.name: t.type for t in info.topics} == {
         "/clock": "rosgraph_msgs/msg/Clock",
         "/identification/results": "diagnostic_msgs/msg/DiagnosticArray",
+        "/tf_static": "tf2_msgs/msg/TFMessage",
+        f"/bench/{COMPONENT}/structure": "visualization_msgs/msg/MarkerArray",
+        **{f"/identification/{COMPONENT}/{q}": "std_msgs/msg/Float64MultiArray"
+           for q in ("k", "l", "beta")},
         **{f"/bench/{COMPONENT}/{leaf}": f"geometry_msgs/msg/{t}" if t != "String"
            else "std_msgs/msg/String"
            for leaf, t in zip(leaves, ("WrenchStamped", "String", "PoseArray", "PoseArray",

@@ -13,7 +13,7 @@ import json
 import time
 from pathlib import Path
 
-from motoflex_ros.cli.inputs import noise_argument, seed_argument
+from motoflex_ros.cli.inputs import namespace_argument, noise_argument, seed_argument
 from motoflex_ros.cli.options import add_component_option, components_of
 from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
@@ -38,6 +38,9 @@ def register(subparsers):
                    help="seed of the sensor noise, a whole number >= 0 (default 0)")
     p.add_argument("--out", metavar="DIR", help="bag directory to create (default "
                    "bags/campaign_<UTC time>)")
+    p.add_argument("--namespace", type=namespace_argument, metavar="NS",
+                   help="run every node and topic under this ROS namespace (e.g. /rig_a: two "
+                        "rigs side by side in one ROS_DOMAIN_ID; default: the root, /)")
     p.add_argument("--json", action="store_true", help="print the results as JSON only")
     p.add_argument("--report", choices=("full", "quick", "none"), default="full",
                    help="at the end write <run>.rrd and report.html: 'full' computes the "
@@ -59,7 +62,8 @@ def run(args):
     with run_status(out, results):   # status.json last: complete, or failed and no results
         # progress on stderr, also with --json (stdout then holds the JSON alone)
         outcome = run_campaign_graph(components_of(args, DEFAULT_COMPONENTS), out, args.noise,
-                                     args.seed, args.protocol, progress=True)
+                                     args.seed, args.protocol, progress=True,
+                                     namespace=args.namespace)
         timings = {"graph": outcome.wall_s}
         written = _recording_and_report(outcome.bag, args.report, timings, progress=True)
     if args.json:

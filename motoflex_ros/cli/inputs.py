@@ -69,6 +69,19 @@ def noise_argument(text):
         raise argparse.ArgumentTypeError(getattr(exc, "problem", str(exc))) from None
 
 
+def namespace_argument(text):
+    """Type of --namespace for argparse: a ROS namespace ('/rig_a', 'lab/rig_a'), returned
+    with its leading '/'; names of letters, digits and '_', not starting with a digit."""
+    import argparse
+    import re
+    name = "/" + text.strip().strip("/")
+    if not re.fullmatch(r"(/[A-Za-z_][A-Za-z0-9_]*)+", name):
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is no ROS namespace: expected names of letters, digits and '_' that do "
+            "not start with a digit, separated by '/' (e.g. /rig_a)")
+    return name
+
+
 def seed_argument(text):
     """Type of --seed for argparse: a seed of the sensor noise, a whole number >= 0."""
     import argparse

@@ -43,7 +43,7 @@ class SimClock(RigNode):
         self.dt_ns = seconds_to_ns(p["dt"])
         self.steps = int(round(p["duration"] / p["dt"]))
         self.end_ns = self.steps * self.dt_ns
-        self.clock_pub = self.advertise(Clock, "/clock")
+        self.clock_pub = self.advertise(Clock, "clock")
         self.ready = ReadyWatch(self, set(p["wait_for"]) | set(p["ack_from"]), [self.clock_pub],
                                 p["stall_timeout"])
         self.gate = AckGate(self, p["ack_from"], p["window"] * self.dt_ns, p["stall_timeout"])

@@ -39,6 +39,7 @@ import rerun as rr
 from tqdm import tqdm
 
 from motoflex_ros.bench.replay import recorded_samples, replayed_displacements, shipped_model
+from motoflex_ros.frames import BENCH_SPACING_M
 from motoflex_ros.record import rerun_log as rl
 from motoflex_ros.record.mcap_bag import bag_info, read_messages
 from motoflex_ros.record.rerun_bag_vehicle import (
@@ -56,7 +57,6 @@ __all__ = ["convert_bag", "rrd_path_of", "run_identification", "BENCH_TOPIC", "d
 BENCH_TOPIC = re.compile(r"^/bench/(?P<component>[^/]+)/(?P<what>load|phase|pose|markers/true|"
                          r"markers/measured)$")
 MAX_MARKER_FRAMES = 400
-BENCH_SPACING_M = 1.0     # lateral spacing of the components on the bench [m]
 
 
 @functools.cache
