@@ -33,7 +33,7 @@ def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
         env = dict(os.environ, TMPDIR=str(tmp_path), OPENBLAS_NUM_THREADS="1",
                    ROS_DOMAIN_ID=str(domain))
         runs = {ns: subprocess.Popen(
-            [sys.executable, "-m", "motoflex_ros.cli.main", "campaign", "--components",
+            [sys.executable, "-m", "motoflex_ros.cli.main", "campaign", "--component",
              COMPONENT, "--namespace", f"/{ns}", "--out", str(tmp_path / ns), "--report",
              "none"], env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
             preexec_fn=interruptible) for ns in ("rig_a", "rig_b")}

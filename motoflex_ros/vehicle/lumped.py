@@ -307,7 +307,7 @@ def lumped_vehicle(model, variant, joints_by_component):
     wheels = list(model.wheels)
     for component, joints in joints_by_component.items():
         if component not in MOUNTS:
-            raise ConfigError("--components", component, "unknown component (allowed: "
+            raise ConfigError("--component", component, "unknown component (allowed: "
                                                          f"{', '.join(COMPONENTS)})")
         _insert(model, component, variant, joints, bodies, joint_list, wheels)
     flex = {**model.flex, "variant": variant, "components": tuple(joints_by_component)}
