@@ -398,3 +398,19 @@ def test_rerun_modes_at_a_chosen_speed(tmp_path):
                           "--mode-speed-kmh", "500"], capture_output=True, text=True)
     assert bad.returncode == 2 and "--mode-speed-kmh" in bad.stderr
     assert "Traceback" not in bad.stderr
+
+
+def test_road_test_bodies_take_their_names_from_tf():
+    """The bag's /tf names the /vehicle/bodies poses (vehicle -> vehicle/<body>, same order);
+    without /tf they are body0, body1, ..."""
+    from types import SimpleNamespace as NS
+
+    from motoflex_ros.record.rerun_bag_vehicle import body_names
+
+    def tf(parent, child):
+        return NS(header=NS(frame_id=parent), child_frame_id=child)
+    message = NS(transforms=[tf("odom", "vehicle"), tf("vehicle", "vehicle/frame"),
+                             tf("vehicle", "vehicle/upper_fork"), tf("world", "frame_clamp")])
+    assert body_names({"/tf": [(None, message)]}, 2) == ["frame", "upper_fork"]
+    assert body_names({"/tf": [(None, message)]}, 3) == ["body0", "body1", "body2"]
+    assert body_names({}, 2) == ["body0", "body1"]

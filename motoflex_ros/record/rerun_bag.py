@@ -87,12 +87,14 @@ def _stamp_ns(msg):
 def _collect(bag_dir):
     """Messages grouped by topic: {topic: [(t_ns, msg), ...]} in recording order.
 
-    Messages without a header carry no simulated time: the bench's phase labels are kept with
-    t_ns None (they pair with the loads by order), others (/clock) are left out undecoded.
+    Messages without a header carry no simulated time: the bench's phase labels (they pair
+    with the loads by order) and tf (it names the bodies) are kept with t_ns None, others
+    (/clock) are left out undecoded.
     """
     grouped = defaultdict(list)
     for message in read_messages(bag_dir):
-        unstamped = message.type == "std_msgs/msg/String" and message.topic.endswith("/phase")
+        unstamped = (message.type == "std_msgs/msg/String" and message.topic.endswith("/phase")
+                     or message.type == "tf2_msgs/msg/TFMessage")
         if message.type == "rosgraph_msgs/msg/Clock":
             continue
         msg = decode(message)

@@ -53,13 +53,26 @@ def _log_road_test(rec, grouped, t0):
                             [list(m.position) for _, m in joints])
     bodies = grouped.get("/vehicle/bodies", [])
     if bodies:
-        count = len(bodies[0][1].poses)
-        names = [f"body{i}" for i in range(count)]
+        names = body_names(grouped, len(bodies[0][1].poses))
         rv.log_body_shapes(rec, "/vehicle/road_test",
                            [rv.BodyShape(n, "box", (0.15, 0.1, 0.1)) for n in names])
         rv.log_body_poses(rec, "/vehicle/road_test", names, times_s(bodies, t0),
                           [[vec(p.position) for p in m.poses] for _, m in bodies],
                           [[quat(p.orientation) for p in m.poses] for _, m in bodies])
+
+
+def body_names(grouped, count):
+    """Names of the ``count`` poses of /vehicle/bodies: the child frames vehicle/<body> the
+    bag's /tf gives them (the same order: :func:`motoflex_ros.frames.vehicle_transforms`), or
+    body0, body1, ... for a bag without them."""
+    from motoflex_ros.frames import VEHICLE_FRAME
+    prefix = VEHICLE_FRAME + "/"
+    for _, message in grouped.get("/tf", []):
+        children = [t.child_frame_id for t in message.transforms
+                    if t.header.frame_id == VEHICLE_FRAME and t.child_frame_id.startswith(prefix)]
+        if len(children) == count:
+            return [c[len(prefix):] for c in children]
+    return [f"body{i}" for i in range(count)]
 
 
 def marker_axis(marker):
