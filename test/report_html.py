@@ -3,10 +3,18 @@
 Shared by test/test_report_reader.py and test/test_report_browser.py.
 """
 import base64
+import shutil
 import struct
+import subprocess
+import sys
 from html.parser import HTMLParser
+from pathlib import Path
 
-__all__ = ["ReportPage", "parse_report", "png_size"]
+import pytest
+
+__all__ = ["ReportPage", "parse_report", "png_size", "example_report", "EXAMPLE"]
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 
 
 class ReportPage(HTMLParser):
@@ -87,3 +95,19 @@ def png_size(png):
     """(width, height) [px] of PNG bytes, from the IHDR chunk."""
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
     return struct.unpack(">II", png[16:24])
+
+
+def example_report(parent, prepare=None):
+    """A copy of bags/example in ``parent`` (nothing in bags/ is written), ``prepare(folder)``
+    applied to it, and its report built with ``motoflex report --no-compute``; the folder."""
+    if not (EXAMPLE / "status.json").is_file():
+        pytest.skip("bags/example is not in this checkout")
+    folder = Path(parent) / "example"
+    shutil.copytree(EXAMPLE, folder, ignore=shutil.ignore_patterns("report.html", "*.rrd"))
+    if prepare is not None:
+        prepare(folder)
+    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "report",
+                             str(folder), "--no-compute", "--quiet"], capture_output=True,
+                            text=True, timeout=600)
+    assert result.returncode == 0, result.stderr
+    return folder

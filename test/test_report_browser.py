@@ -11,17 +11,14 @@ the screenshots.
 import io
 import json
 import os
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 from chromium_devtools import DevTools, ensure_chromium
 from PIL import Image
+from report_html import example_report
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 MIN_INK = 0.01
 """Least share of a figure's pixels that are not page white (a blank plot region has 0)."""
 MIN_COLOURED = 0.002
@@ -49,15 +46,7 @@ def ink(png):
 
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
-    if not (EXAMPLE / "status.json").is_file():
-        pytest.skip("bags/example is not in this checkout")
-    folder = tmp_path_factory.mktemp("runs") / "example"
-    shutil.copytree(EXAMPLE, folder, ignore=shutil.ignore_patterns("report.html", "*.rrd"))
-    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "report",
-                             str(folder), "--no-compute", "--quiet"], capture_output=True,
-                            text=True, timeout=600)
-    assert result.returncode == 0, result.stderr
-    return folder
+    return example_report(tmp_path_factory.mktemp("runs"))
 
 
 @pytest.mark.slow

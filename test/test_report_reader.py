@@ -10,16 +10,12 @@ The figures themselves are checked on their matplotlib objects: distinct axis st
 overlapping or cut off, every Fig. 8 bar visible, mode shapes scaled as stated.
 """
 import json
-import shutil
-import subprocess
-import sys
 from collections import Counter
-from pathlib import Path
 
 import numpy as np
 import pytest
 import yaml
-from report_html import parse_report, png_size
+from report_html import EXAMPLE, example_report, parse_report, png_size
 
 from motoflex_ros.launcher.campaign import VEHICLE_VARIANT
 from motoflex_ros.launcher.provenance import utc_stamp, write_provenance
@@ -27,7 +23,6 @@ from motoflex_ros.report.html import CONTENT_WIDTH_PX
 from motoflex_ros.report.tables import DEVIATION_FLAG_PERCENT
 from motoflex_ros.structures.published import COMPONENTS, paper_table2_stiffness
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 ARGV = ["campaign", "--out", "bags/example", "--seed", "3", "--noise", "2e-05"]
 MAX_DOWNSCALE = 1.0
 """A figure may be at most this many times the page's content width: shown 1:1, not shrunk."""
@@ -35,15 +30,9 @@ MAX_DOWNSCALE = 1.0
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
-    if not (EXAMPLE / "status.json").is_file():
-        pytest.skip("bags/example is not in this checkout")
-    folder = tmp_path_factory.mktemp("runs") / "example"
-    shutil.copytree(EXAMPLE, folder, ignore=shutil.ignore_patterns("report.html", "*.rrd"))
-    write_provenance(folder, ARGV, list(COMPONENTS), 3, 2e-5, None, 1_796_168_200.0)
-    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "report",
-                             str(folder), "--no-compute", "--quiet"], capture_output=True,
-                            text=True, timeout=600)
-    assert result.returncode == 0, result.stderr
+    def with_provenance(folder):
+        write_provenance(folder, ARGV, list(COMPONENTS), 3, 2e-5, None, 1_796_168_200.0)
+    folder = example_report(tmp_path_factory.mktemp("runs"), with_provenance)
     return folder, parse_report(folder / "report.html")
 
 
