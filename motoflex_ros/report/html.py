@@ -22,7 +22,7 @@ th, td {{ border: 1px solid #ccc; padding: 3px 8px; text-align: right; }}
 th:first-child, td:first-child {{ text-align: left; }}
 td[data-kind=paper] {{ color: #555; }} td[data-kind=diff] {{ font-style: italic; }}
 td.flag {{ background: #fdd; color: #a00; font-weight: bold; }}
-td[data-kind=missing] {{ color: #a33; }} td[data-kind=provenance] {{ text-align: left; }}
+td[data-kind=missing] {{ color: #a33; }} #provenance td {{ text-align: left; }}
 .na {{ color: #a33; }} figure {{ margin: 1em 0; }} img {{ max-width: 100%; }}
 .sources {{ font-size: 0.85em; color: #555; }} .note {{ font-size: 0.9em; }}
 .warning {{ border: 2px solid #a33; background: #fee; padding: 0.5em 1em; font-weight: bold; }}
