@@ -2,6 +2,7 @@
 
 One component (swingarm, the shortest campaign) keeps these tests to about a minute each.
 """
+import html
 import json
 import os
 import signal
@@ -93,6 +94,11 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     timings = json.loads((bag / "timings.json").read_text())
     assert 0.0 < timings["graph"] < 600.0 and timings["rerun recording"] > 0.0
     assert "campaign: graph" in report
+    # issue 16, point 7: what made the run is recorded beside it and reported
+    made = json.loads((bag / "provenance.json").read_text())
+    assert made["command"].startswith("motoflex campaign") and str(bag) in made["command"]
+    assert made["seed"] == 0 and list(made["sensor_noise_m"]) == [COMPONENT]
+    assert made["command"] in html.unescape(report)
     live = json.loads((bag / "identification.json").read_text())
     assert json.loads((bag / "status.json").read_text())["status"] == "complete"
     assert not (bag / ".identification.partial.json").exists()

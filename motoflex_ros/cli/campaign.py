@@ -5,7 +5,8 @@ else a free one) with DDS on loopback (MOTOFLEX_DDS=network for a real bench), w
 all are up, runs the campaign of each component, shows progress, prints the identified values
 against the paper's Table 2, stops every node and leaves the bag in ``--out``
 (bags/<name>/: rosbag2 MCAP + identification.json, the same file ``motoflex identify --out``
-writes). A node that dies, SIGINT or SIGTERM stop the run with a message naming what happened.
+writes, and provenance.json: command, version, git commit, seed, sensor noise). A node that
+dies, SIGINT or SIGTERM stop the run with a message naming what happened.
 status.json is written last: "complete", or "failed" with the reason (and then no
 identification.json or report.html is left; see :mod:`motoflex_ros.launcher.status`).
 """
@@ -52,6 +53,7 @@ def register(subparsers):
 def run(args):
     """Run the graph; print the table (or JSON); returns the exit code."""
     from motoflex_ros.launcher.campaign import RESULT_FILE, VEHICLE_VARIANT, run_campaign_graph
+    from motoflex_ros.launcher.provenance import write_provenance
     from motoflex_ros.launcher.status import run_status
     from motoflex_ros.record.mcap_bag import bag_info
     out = args.out or time.strftime("bags/campaign_%Y%m%d_%H%M%S", time.gmtime())
@@ -59,11 +61,14 @@ def run(args):
     if args.report != "none":
         from motoflex_ros.report.build import REPORT_FILE
         results.append(REPORT_FILE)
+    started = time.time()
     with run_status(out, results):   # status.json last: complete, or failed and no results
         # progress on stderr, also with --json (stdout then holds the JSON alone)
-        outcome = run_campaign_graph(components_of(args, DEFAULT_COMPONENTS), out, args.noise,
-                                     args.seed, args.protocol, progress=True,
-                                     namespace=args.namespace)
+        components = components_of(args, DEFAULT_COMPONENTS)
+        outcome = run_campaign_graph(components, out, args.noise, args.seed, args.protocol,
+                                     progress=True, namespace=args.namespace)
+        write_provenance(outcome.bag, getattr(args, "argv", ["campaign"]), components,
+                         args.seed, args.noise, args.protocol, started)
         timings = {"graph": outcome.wall_s}
         written = _recording_and_report(outcome.bag, args.report, timings, progress=True)
     if args.json:

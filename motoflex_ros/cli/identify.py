@@ -114,8 +114,9 @@ def run(args):
         write_results(args.out, results)
     if args.plot:
         from motoflex_ros.plots.axes import plot_component_axes
-        for name, (setup, run) in runs.items():
-            plot_component_axes(setup, run.identification, Path(args.plot) / f"{name}_axes.png")
+        for name, (setup, _) in runs.items():
+            plot_component_axes(setup.component, results[name],
+                                Path(args.plot) / f"{name}_axes.png")
     if args.json:
         emit_json(results)
     else:

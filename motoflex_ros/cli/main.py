@@ -67,6 +67,7 @@ def _add_limit_option(subparsers):
 def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)   # the command, for provenance
     for name, value in getattr(args, "limit", []):
         set_limit(name, value)
     try:
