@@ -7,7 +7,8 @@
    recorded count over the span of receive times in the bag, and per CPU-second of the
    recorder process (independent of how busy the shared machine is). Baseline in the same
    run: the bag writer alone (record.mcap_bag, no ROS) writing the same messages; the ratio
-   shows what the middleware costs. Target: >= 20,000 messages/s.
+   shows what the middleware costs. Target: >= 20,000 messages/s. Also rosbags' rosbag2
+   Writer (MCAP, zstd) alone on the same messages, the alternative to record.mcap_bag.
 2. --campaign: ``motoflex campaign`` (all components, through the graph) wall time against the
    offline ``identify_components`` of the same components in this process. Target: <= 30 s.
 """
@@ -58,6 +59,26 @@ def _baseline(n, tmp):
         for i in range(n):
             msg.wrench.force.y = float(i)
             writer.write(TOPICS[i % len(TOPICS)], time.time_ns(), serialize_message(msg))
+    return n / (time.perf_counter() - start)
+
+
+def _rosbags_writer(n, tmp):
+    from geometry_msgs.msg import WrenchStamped
+    from rclpy.serialization import serialize_message
+    from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+    store = get_typestore(Stores.ROS2_JAZZY)
+    msg = WrenchStamped()
+    start = time.perf_counter()
+    writer = Writer(Path(tmp) / "rosbags", version=9, storage_plugin=StoragePlugin.MCAP)
+    writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
+    writer.open()
+    connections = [writer.add_connection(t, "geometry_msgs/msg/WrenchStamped",
+                                         typestore=store) for t in TOPICS]
+    for i in range(n):
+        msg.wrench.force.y = float(i)
+        writer.write(connections[i % len(TOPICS)], time.time_ns(), serialize_message(msg))
+    writer.close()
     return n / (time.perf_counter() - start)
 
 
@@ -115,8 +136,11 @@ def main():
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     with tempfile.TemporaryDirectory() as tmp:
         base = _baseline(args.messages, tmp)
+        other = _rosbags_writer(args.messages, tmp)
         count, rate, per_cpu = _recorder_rate(args.messages, tmp)
         print(f"bag writer alone (baseline): {base:10,.0f} messages/s")
+        print(f"rosbags' Writer alone:       {other:10,.0f} messages/s "
+              f"(ratio {other / base:.2f} of baseline)")
         print(f"recorder node over DDS:      {rate:10,.0f} messages/s "
               f"({count} of {args.messages} recorded, ratio {rate / base:.2f} of baseline, "
               f"target 20,000)")

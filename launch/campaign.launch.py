@@ -1,5 +1,6 @@
 """ros2 launch motoflex_ros campaign.launch.py [components:=a,b] [out:=bags/NAME] [seed:=N]
-[noise:=SIGMA]: the same node graph as ``motoflex campaign`` (plain ``launch`` API).
+[noise:=SIGMA] [namespace:=/rig_a]: the same node graph as ``motoflex campaign`` (plain
+``launch`` API); with a namespace every node and topic runs under it (two rigs in one domain).
 
 Each node is started as its ``ros2 run`` executable with a parameters file written from
 :func:`motoflex_ros.launcher.campaign.campaign_specs`, so both ways run identical graphs. The
@@ -28,7 +29,7 @@ from launch.substitutions import LaunchConfiguration
 from launch import LaunchDescription
 
 ARGUMENTS = {"components": "frame,front_assembly,swingarm", "out": "bags/campaign",
-             "seed": "0", "noise": "-1"}
+             "seed": "0", "noise": "-1", "namespace": "/"}
 
 
 def _executable(name):
@@ -43,6 +44,7 @@ def _executable(name):
 
 def _graph(context):
     from motoflex_ros.launcher.campaign import campaign_specs
+    from motoflex_ros.launcher.graph import namespace_args, node_key
     value = {k: LaunchConfiguration(k).perform(context) for k in ARGUMENTS}
     noise = float(value["noise"])
     specs = campaign_specs(value["components"].split(","), value["out"],
@@ -52,9 +54,12 @@ def _graph(context):
     for spec in specs:
         params = {k: list(v) if isinstance(v, tuple) else v for k, v in spec.params.items()}
         path = params_dir / f"{spec.name}.yaml"
-        path.write_text(yaml.safe_dump({spec.name: {"ros__parameters": params}}))
+        path.write_text(yaml.safe_dump(
+            {node_key(value["namespace"], spec.name): {"ros__parameters": params}}))
         actions.append(ExecuteProcess(cmd=[*_executable(spec.name), "--ros-args", "-r",
-                                           f"__node:={spec.name}", "--params-file", str(path)],
+                                           f"__node:={spec.name}",
+                                           *namespace_args(value["namespace"]),
+                                           "--params-file", str(path)],
                                       name=spec.name, output="screen", sigterm_timeout="10"))
     last = next(a for a in actions if a.name == "load_actuator")
     if any(a.name == "vehicle_simulator" for a in actions):

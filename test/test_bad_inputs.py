@@ -92,7 +92,7 @@ def vehicle(*edits):
 COMPONENTS = ("components", "--component")
 IDENTIFY_TUBE = ("identify", "--component", "tube", "--protocol", ref(PROTO),
                  "--out", "{out.json}")
-EIG = ("eig", "--vehicle", ref(VEHICLE), "--speeds", "10")
+EIG = ("eig", "--vehicle", ref(VEHICLE), "--speeds-ms", "10")
 EIG_ARGS = ("eig", "--vehicle", "whipple_benchmark")
 STEEL = "steel: {E: 2.1e11, G: 8.1e10, rho: 7850}"
 
@@ -120,12 +120,12 @@ ISSUE_CASES = {
     "decay_periods_1e9": Case(IDENTIFY_TUBE, protocol(("decay_periods: 20", "decay_periods: 1e9")),
                               PROTO, "modal.decay_periods"),
     "campaign_decay_periods_1e9": Case(
-        ("campaign", "--components", "tube", "--protocol", ref(PROTO), "--report", "none",
+        ("campaign", "--component", "tube", "--protocol", ref(PROTO), "--report", "none",
          "--out", "{bag}"), protocol(("decay_periods: 20", "decay_periods: 1e9")),
         PROTO, "modal.decay_periods"),
     # MemoryError tracebacks
-    "eig_speeds_1e12": Case(EIG_ARGS + ("--speeds", "1e12"), {}, "command line", "--speeds"),
-    "eig_step_1e-9": Case(EIG_ARGS + ("--range-kmh", "10", "200", "--step", "1e-9"), {},
+    "eig_speeds_1e12": Case(EIG_ARGS + ("--speeds-ms", "1e12"), {}, "command line", "--speeds"),
+    "eig_step_1e-9": Case(EIG_ARGS + ("--range-kmh", "10", "200", "--step-kmh", "1e-9"), {},
                           "command line", "--step"),
     # blamed on the tyre key pky1
     "vehicle_mass_1e300": Case(EIG, {VEHICLE: with_value(
@@ -212,16 +212,16 @@ MORE_CASES = {
                                           "centre: [0.0, 0.0, 0.300]")), VEHICLE,
                             "wheels.rear.centre"),
     "binary_vehicle": Case(EIG, {VEHICLE: bytes(range(256))}, VEHICLE, "UTF-8"),
-    "eig_top_speed": Case(EIG_ARGS + ("--range-kmh", "10", "2000", "--step", "1"), {},
+    "eig_top_speed": Case(EIG_ARGS + ("--range-kmh", "10", "2000", "--step-kmh", "1"), {},
                           "command line", "--range-kmh"),
-    "eig_many_speeds": Case(EIG_ARGS + ("--speeds",) + ("1",) * 10_001, {}, "command line",
+    "eig_many_speeds": Case(EIG_ARGS + ("--speeds-ms",) + ("1",) * 10_001, {}, "command line",
                             "--speeds"),
     "study_step_1e-9": Case(("study", "accuracy", "--step-kmh", "1e-9", "--plot", "{plots}"), {},
                             "command line", "--step-kmh"),
-    "identified_file_garbage": Case(("eig", "--vehicle", "touring", "--speeds", "10", "--flex",
+    "identified_file_garbage": Case(("eig", "--vehicle", "touring", "--speeds-ms", "10", "--flex",
                                                     "static", "--identified", "{r.json}"),
                                     {"r.json": "{\"frame\": [1, 2"}, "r.json", "not valid YAML"),
-    "bad_limit_value": Case(EIG_ARGS + ("--speeds", "10", "--limit", "speeds=-1"), {},
+    "bad_limit_value": Case(EIG_ARGS + ("--speeds-ms", "10", "--limit", "speeds=-1"), {},
                             "--limit", "speeds"),
     "params_file_binary": Case(("--params-file", "{p.yaml}"), {"p.yaml": bytes(range(256))},
                                "p.yaml", "UTF-8", node=True),
@@ -342,7 +342,7 @@ def test_limit_option_raises_and_lowers_a_limit(tmp_path):
     assert "--limit dofs=N" in lowered.stderr and "MOTOFLEX_LIMIT_DOFS" in lowered.stderr
     env = {**os.environ, "MOTOFLEX_LIMIT_DOFS": "100"}
     assert subprocess.run(base, capture_output=True, timeout=60, env=env).returncode == 2
-    many = CLI + ["eig", "--vehicle", "whipple_benchmark", "--range-kmh", "10", "11", "--step",
+    many = CLI + ["eig", "--vehicle", "whipple_benchmark", "--range-kmh", "10", "11", "--step-kmh",
                   "1e-4", "--json"]
     refused = subprocess.run(many, capture_output=True, text=True, timeout=60)
     assert refused.returncode == 2 and "10,001 speeds" in refused.stderr

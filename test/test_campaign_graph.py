@@ -2,6 +2,7 @@
 
 One component (swingarm, the shortest campaign) keeps these tests to about a minute each.
 """
+import html
 import json
 import os
 import signal
@@ -60,7 +61,7 @@ def interruptible():
 def _campaign(tmp_path, *extra):
     env = dict(os.environ, TMPDIR=str(tmp_path), OPENBLAS_NUM_THREADS="1")
     return subprocess.Popen([sys.executable, "-m", "motoflex_ros.cli.main", "campaign",
-                             "--components", COMPONENT, *extra], env=env, text=True,
+                             "--component", COMPONENT, *extra], env=env, text=True,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             preexec_fn=interruptible)
 
@@ -93,6 +94,11 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     timings = json.loads((bag / "timings.json").read_text())
     assert 0.0 < timings["graph"] < 600.0 and timings["rerun recording"] > 0.0
     assert "campaign: graph" in report
+    # issue 16, point 7: what made the run is recorded beside it and reported
+    made = json.loads((bag / "provenance.json").read_text())
+    assert made["command"].startswith("motoflex campaign") and str(bag) in made["command"]
+    assert made["seed"] == 0 and list(made["sensor_noise_m"]) == [COMPONENT]
+    assert made["command"] in html.unescape(report)
     live = json.loads((bag / "identification.json").read_text())
     assert json.loads((bag / "status.json").read_text())["status"] == "complete"
     assert not (bag / ".identification.partial.json").exists()
@@ -105,6 +111,10 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     assert {t.name: t.type for t in info.topics} == {
         "/clock": "rosgraph_msgs/msg/Clock",
         "/identification/results": "diagnostic_msgs/msg/DiagnosticArray",
+        "/tf_static": "tf2_msgs/msg/TFMessage",
+        f"/bench/{COMPONENT}/structure": "visualization_msgs/msg/MarkerArray",
+        **{f"/identification/{COMPONENT}/{q}": "std_msgs/msg/Float64MultiArray"
+           for q in ("k", "l", "beta")},
         **{f"/bench/{COMPONENT}/{leaf}": f"geometry_msgs/msg/{t}" if t != "String"
            else "std_msgs/msg/String"
            for leaf, t in zip(leaves, ("WrenchStamped", "String", "PoseArray", "PoseArray",

@@ -91,7 +91,7 @@ class Run:
         else:   # the second of two campaigns in one domain
             self.proc = subprocess.Popen(
                 [sys.executable, "-c", FORCED_DOMAIN, str(forced_domain), "campaign",
-                 "--components", COMPONENT, *args], text=True, stdout=subprocess.PIPE,
+                 "--component", COMPONENT, *args], text=True, stdout=subprocess.PIPE,
                 stderr=subprocess.PIPE, env=dict(os.environ, TMPDIR=str(tmp_path)),
                 preexec_fn=interruptible)
         self.fault_at = None

@@ -27,6 +27,6 @@ def test_axis_segment_roundtrip():
 def test_plot_component_axes_writes_png(tmp_path):
     from motoflex_ros.plots.axes import plot_component_axes
     setup = with_sensor(setup_campaign("swingarm"), noise_m=0.0, resolution_m=0.0)
-    result = run_campaign(setup).identification
-    path = plot_component_axes(setup, result, tmp_path / "swingarm_axes.png")
+    result = run_campaign(setup).identification.to_dict()
+    path = plot_component_axes(setup.component, result, tmp_path / "swingarm_axes.png")
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

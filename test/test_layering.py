@@ -49,10 +49,10 @@ def import_chains(start):
 
 
 def test_import_chains_follow_function_level_imports():
-    chains = import_chains("motoflex_ros.record.rerun_bag")
-    # rerun_bag imports the structures only inside a function
-    assert chains["motoflex_ros.structures"][:2] == ("motoflex_ros.record.rerun_bag",
-                                                      "motoflex_ros.structures")
+    chains = import_chains("motoflex_ros.record.rerun_bag_vehicle")
+    # rerun_bag_vehicle imports rerun_motorcycle only inside a function
+    assert chains["motoflex_ros.record.rerun_motorcycle"] == (
+        "motoflex_ros.record.rerun_bag_vehicle", "motoflex_ros.record.rerun_motorcycle")
 
 
 def test_nodes_do_not_import_the_cli():
@@ -85,3 +85,22 @@ def test_structures_stand_below_the_vehicle():
                for module, chain in import_chains(m).items()
                if module.startswith(("motoflex_ros.vehicle", "motoflex_ros.study"))]
     assert not reached, reached
+
+
+ENGINES = ("motoflex_ros.vehicle.linearize", "motoflex_ros.vehicle.modes",
+           "motoflex_ros.vehicle.response", "motoflex_ros.bench.response",
+           "motoflex_ros.study")
+
+
+def test_record_layer_is_handed_what_it_draws():
+    """Issue 16, point 10: record/ writes what the core computed (the motorcycle's motion,
+    vehicle.animation; the bench replay, bench.replay) and runs no engine itself: no record
+    module reaches a linearization, a modal sweep, a response, the component simulator or a
+    study but through those two."""
+    allowed = {"motoflex_ros.vehicle.animation", "motoflex_ros.bench.replay"}
+    for module in (m for m in MODULES if m.startswith("motoflex_ros.record.")):
+        direct = imports_of(module) - allowed
+        reached = {m for d in direct for m in import_chains(d)}
+        engines = sorted(m for m in reached | direct
+                         if any(m == e or m.startswith(e + ".") for e in ENGINES))
+        assert engines == [], (module, engines)

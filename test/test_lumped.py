@@ -138,7 +138,7 @@ def test_eig_verb_with_flex_variant(identified, tmp_path):
     path.write_text(json.dumps(identified, default=float))
     result = subprocess.run(
         [sys.executable, "-m", "motoflex_ros.cli.main", "eig", "--vehicle", "touring",
-         "--speeds", "20", "40", "--flex", "static", "--components", "swingarm",
+         "--speeds-ms", "20", "40", "--flex", "static", "--component", "swingarm",
          "--identified", str(path), "--json"], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     out = json.loads(result.stdout)
@@ -150,7 +150,7 @@ def test_eig_verb_with_flex_variant(identified, tmp_path):
         got = np.array([complex(*z) for z in out["modes"][mode]])
         assert np.allclose(got, sweep.modes[mode], rtol=1e-9)
     bad = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "eig", "--vehicle",
-                          "touring", "--speeds", "20", "--flex", "static", "--components",
+                          "touring", "--speeds-ms", "20", "--flex", "static", "--component",
                           "fork"], capture_output=True, text=True)
     assert bad.returncode == 2 and "unknown component 'fork'" in bad.stderr
 

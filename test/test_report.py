@@ -247,8 +247,9 @@ def test_report_vehicle_stability_names_the_variant(full_report):
         "and wobble against speed")
     legacy = {k: v for k, v in full_report[0]["eig.json"].items()
               if k not in ("vehicle", "variant", "components")}
-    (figure,) = _vehicle({"eig": legacy}, {"eig": "eig.json"})
+    note, figure = _vehicle({"eig": legacy}, {"eig": "eig.json", "identify": "identify.json"})
     assert "model not recorded in eig.json" in figure.caption and "rigid" not in figure.caption
+    assert "does not record which motorcycle" in note.text
 
 
 def test_report_vehicle_source_is_the_campaigns_motorcycle(tmp_path):

@@ -12,7 +12,6 @@ import numpy as np
 import pytest
 
 from motoflex_ros.record.mcap_bag import BagWriter
-from motoflex_ros.record.rerun_motorcycle import MODE_CYCLES, MODE_FRAMES_PER_CYCLE
 from motoflex_ros.record.rerun_readback import (
     component_rows,
     entity_rows,
@@ -20,6 +19,7 @@ from motoflex_ros.record.rerun_readback import (
     verify_text,
 )
 from motoflex_ros.structures import load_component
+from motoflex_ros.vehicle.animation import MODE_CYCLES, MODE_FRAMES_PER_CYCLE
 
 N_LOAD = 120
 N_BODY = 50
@@ -178,7 +178,7 @@ def make_bag(path, with_results=False, eigenvalues=True):
     if with_results:
         _identification_file(path, reduced, values)
         eig = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "eig", "--vehicle",
-                              "touring", "--range-kmh", "40", "210", "--step", "10", "--json"],
+                              "touring", "--range-kmh", "40", "210", "--step-kmh", "10", "--json"],
                              capture_output=True, text=True, check=True)
         (path / "eig.json").write_text(eig.stdout)
     return values
@@ -269,7 +269,7 @@ def test_rerun_bag_without_eigenvalue_topic_uses_eig_json_roundtrip(converted, t
     bag = tmp_path / "run2"
     make_bag(bag, eigenvalues=False)
     (bag / "eig.json").write_text((converted[0] / "eig.json").read_text())
-    rrd, _ = convert_bag(bag, vehicle=None)
+    rrd, _ = convert_bag(bag)
     eig = json.loads((bag / "eig.json").read_text())
     got = scalar_values(rrd, "/vehicle/eigenvalues/weave/real_part")
     want = [np.nan if z is None else z[0] for z in eig["modes"]["weave"]]
@@ -327,10 +327,11 @@ def test_rerun_road_test_without_bag_bodies(tmp_path):
     from motoflex_ros.config import resolve_config
     from motoflex_ros.record.rerun_log import RunRecording
     from motoflex_ros.record.rerun_motorcycle import log_motorcycle
+    from motoflex_ros.vehicle.animation import motorcycle_motion
     from motoflex_ros.vehicle.model import load_vehicle
     model = load_vehicle(resolve_config("vehicles", "touring"))
     with RunRecording(tmp_path / "m.rrd", "m") as run:
-        samples = log_motorcycle(run.stream, model)
+        samples = log_motorcycle(run.stream, motorcycle_motion(model))
     rows = entity_rows(tmp_path / "m.rrd")
     assert samples > 100
     for body in ("frame", "upper_fork", "front_wheel", "rear_wheel"):
@@ -357,7 +358,8 @@ def test_rerun_weave_animation_roundtrip(tmp_path):
 
     from motoflex_ros.config import resolve_config
     from motoflex_ros.record.rerun_log import RunRecording
-    from motoflex_ros.record.rerun_motorcycle import log_motorcycle, mode_rows
+    from motoflex_ros.record.rerun_motorcycle import log_motorcycle
+    from motoflex_ros.vehicle.animation import mode_rows, motorcycle_motion
     from motoflex_ros.vehicle.linearize import linearize
     from motoflex_ros.vehicle.model import load_vehicle
     from motoflex_ros.vehicle.modes import modal_sweep
@@ -366,7 +368,8 @@ def test_rerun_weave_animation_roundtrip(tmp_path):
     lin = linearize(model)
     weave = modal_sweep(lin, np.array([speed])).modes["weave"][0]
     with RunRecording(tmp_path / "w.rrd", "w") as run:
-        log_motorcycle(run.stream, model, speed, modes={"weave": weave}, road_test=False)
+        log_motorcycle(run.stream, motorcycle_motion(model, speed, modes={"weave": weave},
+                                                     road=False))
     rows, lam = mode_rows(lin, speed, weave)
     assert lam == pytest.approx(weave, abs=1e-9)
     names = [c.name for c in lin.system.tree.coordinates]
@@ -376,3 +379,38 @@ def test_rerun_weave_animation_roundtrip(tmp_path):
     np.testing.assert_allclose(euler[:, 0], rows[:, names.index("yaw")], atol=1e-6)
     np.testing.assert_allclose(euler[:, 1], rows[:, names.index("roll")], atol=1e-6)
     assert np.abs(rows[:, names.index("roll")]).max() > 0.01
+
+
+def test_rerun_modes_at_a_chosen_speed(tmp_path):
+    """``--mode-speed-kmh``: weave and wobble animated at that speed, each on its own entity
+    with its eigenvalue and exaggeration stated; a speed out of range is refused."""
+    bag = tmp_path / "run"
+    make_bag(bag)
+    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "rerun", str(bag),
+                             "--mode-speed-kmh", "60"], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    rrd = next(bag.glob("*.rrd"))
+    for mode in ("weave", "wobble"):
+        (text,) = component_rows(rrd, f"/vehicle/modes/{mode}/description",
+                                 "TextDocument:text")
+        assert f"{mode} at 60 km/h" in text[1][0] and "largest angle is 0.15 rad" in text[1][0]
+    bad = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "rerun", str(bag),
+                          "--mode-speed-kmh", "500"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "--mode-speed-kmh" in bad.stderr
+    assert "Traceback" not in bad.stderr
+
+
+def test_road_test_bodies_take_their_names_from_tf():
+    """The bag's /tf names the /vehicle/bodies poses (vehicle -> vehicle/<body>, same order);
+    without /tf they are body0, body1, ..."""
+    from types import SimpleNamespace as NS
+
+    from motoflex_ros.record.rerun_bag_vehicle import body_names
+
+    def tf(parent, child):
+        return NS(header=NS(frame_id=parent), child_frame_id=child)
+    message = NS(transforms=[tf("odom", "vehicle"), tf("vehicle", "vehicle/frame"),
+                             tf("vehicle", "vehicle/upper_fork"), tf("world", "frame_clamp")])
+    assert body_names({"/tf": [(None, message)]}, 2) == ["frame", "upper_fork"]
+    assert body_names({"/tf": [(None, message)]}, 3) == ["body0", "body1", "body2"]
+    assert body_names({}, 2) == ["body0", "body1"]

@@ -17,10 +17,10 @@ EXAMPLE_BAG = Path(__file__).resolve().parents[1] / "bags" / "example"
 
 @pytest.fixture(scope="module")
 def recording(tmp_path_factory):
-    from motoflex_ros.record.rerun_bag import convert_bag
+    from motoflex_ros.cli.recording import write_recording
     if not (EXAMPLE_BAG / "metadata.yaml").is_file():
         pytest.skip("bags/example is not in this checkout")
-    rrd, _ = convert_bag(EXAMPLE_BAG, tmp_path_factory.mktemp("rrd") / "example.rrd")
+    rrd, _ = write_recording(EXAMPLE_BAG, tmp_path_factory.mktemp("rrd") / "example.rrd")
     temporal, static = entity_rows(rrd), entity_rows(rrd, static=True)
     return blueprint_views(rrd), temporal, static
 

@@ -82,14 +82,17 @@ def test_nodes_params_file_bad_value_clear_error(tmp_path, env, content, expecte
 
 def test_nodes_wildcard_section_for_other_nodes_ignored(tmp_path, env):
     """A '/**:' section may hold parameters of other nodes (issue 16, point 6): the node
-    says so at debug level and runs (no acknowledging nodes: to its end).
+    says so at debug level, takes its own (stall_timeout) and runs: alone, to its wait for a
+    subscriber of /clock, which it gives up after stall_timeout.
     """
     params = tmp_path / "params.yaml"
-    params.write_text("/**:\n  ros__parameters:\n    seed: 3\n    dt: 2.0e-3\n")
+    params.write_text("/**:\n  ros__parameters:\n    seed: 3\n    dt: 2.0e-3\n"
+                      "    stall_timeout: 0.5\n")
     proc = _node("sim_clock", env, params_file=params,
                  ros_args=["--log-level", "sim_clock:=debug"])
     out, err = proc.communicate(timeout=60)
-    assert proc.returncode == 0, (out, err)
+    assert proc.returncode == 2, (out, err)
+    assert "gave up after 0.5 s waiting for a subscriber of /clock" in err
     assert "unknown parameter" not in err
     assert "ignoring parameter 'seed' of a wildcard params file section" in err
 
@@ -215,7 +218,7 @@ def test_bad_protocol_file_clear_error(tmp_path, env):
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 2 and "nope.yaml: file not found" in err
     cli = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "campaign",
-                          "--components", "swingarm", "--protocol", str(tmp_path / "nope.yaml"),
+                          "--component", "swingarm", "--protocol", str(tmp_path / "nope.yaml"),
                           "--out", str(tmp_path / "run")], capture_output=True, text=True,
                          timeout=120, env=env)
     assert cli.returncode == 2 and "nope.yaml: file not found" in cli.stderr

@@ -98,8 +98,8 @@ def test_negative_identified_stiffness_is_named(identified_file, tmp_path, capsy
 
 
 @pytest.mark.parametrize("verb", [["study", "accuracy"],
-                                  ["eig", "--vehicle", "touring", "--speeds", "20",
-                                   "--flex", "static", "--components", "swingarm"]])
+                                  ["eig", "--vehicle", "touring", "--speeds-ms", "20",
+                                   "--flex", "static", "--component", "swingarm"]])
 def test_bad_identified_value_names_the_file(verb, tmp_path, capsys):
     """The message names the file the user gave, the dotted key and the allowed range."""
     example = Path(__file__).resolve().parents[1] / "bags" / "example" / "identification.json"
@@ -113,7 +113,7 @@ def test_bad_identified_value_names_the_file(verb, tmp_path, capsys):
 
 
 @pytest.mark.parametrize(("argv", "key"), [(["--levels", "1"], "levels"),
-                                           (["--range", "1.5"], "range"),
+                                           (["--range-rel", "1.5"], "range"),
                                            (["--step-kmh", "0"], "--step-kmh")])
 def test_bad_arguments_are_named(argv, key, capsys):
     assert main(["study", "sensitivity", "--identified", "missing.yaml"] + argv) == 2

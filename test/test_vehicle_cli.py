@@ -11,7 +11,7 @@ from motoflex_ros.vehicle.model import load_vehicle
 
 def test_eig_json_roundtrip_whipple(capsys):
     assert main(["eig", "--vehicle", str(config_path("vehicles", "whipple_benchmark")),
-                 "--speeds", "5", "10", "--json"]) == 0
+                 "--speeds-ms", "5", "10", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["speeds_mps"] == [5.0, 10.0]
     assert (doc["variant"], doc["components"]) == ("rigid", [])   # the model it is of
@@ -27,7 +27,7 @@ def test_eig_json_roundtrip_whipple(capsys):
 
 
 def test_eig_range_and_plot(tmp_path, capsys):
-    assert main(["eig", "--vehicle", "touring", "--range-kmh", "40", "210", "--step", "85",
+    assert main(["eig", "--vehicle", "touring", "--range-kmh", "40", "210", "--step-kmh", "85",
                  "--plot", str(tmp_path), "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert np.allclose(np.array(doc["speeds_mps"]) * 3.6, [40.0, 125.0, 210.0])

@@ -120,10 +120,10 @@ def test_wheel_axis_sign_is_free(whipple):
 
 
 @pytest.mark.parametrize("argv, key", [
-    (["--speeds", "5", "0"], "--speeds"),
-    (["--speeds", "-3"], "--speeds"),
-    (["--range-kmh", "40", "210", "--step", "0"], "--step"),
-    (["--range-kmh", "0", "20", "--step", "10"], "--range-kmh"),
+    (["--speeds-ms", "5", "0"], "--speeds"),
+    (["--speeds-ms", "-3"], "--speeds"),
+    (["--range-kmh", "40", "210", "--step-kmh", "0"], "--step"),
+    (["--range-kmh", "0", "20", "--step-kmh", "10"], "--range-kmh"),
 ])
 def test_bad_speed_exits_nonzero(capsys, argv, key):
     code = main(["eig", "--vehicle", "whipple_benchmark", *argv])
@@ -144,6 +144,6 @@ def test_bad_file_exits_nonzero(tmp_path, capsys, whipple, keys, value, key):
     node[keys[-1]] = value
     path = tmp_path / "broken.yaml"
     path.write_text(yaml.safe_dump(data))
-    assert main(["eig", "--vehicle", str(path), "--speeds", "5"]) == 2
+    assert main(["eig", "--vehicle", str(path), "--speeds-ms", "5"]) == 2
     err = capsys.readouterr().err
     assert "broken.yaml" in err and key in err

@@ -1,107 +1,25 @@
 """Browser test: `motoflex view RUN --web` in headless Debian chromium shows a non-empty 3D view.
 
-Chromium is installed by tools/install_chromium.sh when missing (CI runs as root on a fresh
-machine; the script needs apt-get). The page is driven over the DevTools protocol on a pipe
-(--remote-debugging-pipe, stdlib only): screenshots are taken until the bench's 3D view shows
-the orange beam model, or a time limit passes. Set
+The page is driven over the DevTools protocol (test/chromium_devtools.py): screenshots are
+taken until the bench's 3D view shows the orange beam model, or a time limit passes. Set
 MOTOFLEX_SAVE_VIEWER_PNG=path to keep the screenshot (docs/viewer.png in the README).
 """
-import base64
-import fcntl
 import io
-import json
 import os
-import shutil
-import signal
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
+from chromium_devtools import WINDOW, DevTools, ensure_chromium
 from PIL import Image
 
 from motoflex_ros.record.rerun_log import STRUCTURE_COLOR
 
-CHROMIUM = Path("/usr/bin/chromium")
-ROOT = Path(__file__).resolve().parents[1]
-WINDOW = (1280, 800)
 LOAD_LIMIT_S = 90.0
 STRUCTURE_RGB = np.array(STRUCTURE_COLOR)
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
-
-
-def ensure_chromium():
-    if CHROMIUM.exists():
-        return
-    if shutil.which("apt-get") is None:
-        pytest.skip("chromium is not installed and apt-get is not available to install it")
-    if os.geteuid() != 0:
-        pytest.skip("chromium is not installed and installing it with apt-get needs root")
-    result = subprocess.run(["bash", str(ROOT / "tools" / "install_chromium.sh")],
-                            capture_output=True, text=True, timeout=600)
-    assert result.returncode == 0, result.stderr[-2000:]
-
-
-class DevTools:
-    """Minimal Chrome DevTools protocol client over --remote-debugging-pipe (fds 3 and 4)."""
-
-    def __init__(self, extra_flags=()):
-        def high(fd):
-            moved = fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, 10)
-            os.close(fd)
-            return moved
-        to_chrome, self._out = map(high, os.pipe())
-        self._in, from_chrome = map(high, os.pipe())
-        self._profile = tempfile.mkdtemp(prefix="motoflex-chromium-")
-        cmd = [str(CHROMIUM), *FLAGS, f"--user-data-dir={self._profile}",
-               f"--window-size={WINDOW[0]},{WINDOW[1]}", "--remote-debugging-pipe",
-               *extra_flags, "about:blank"]
-        actions = [(os.POSIX_SPAWN_DUP2, to_chrome, 3), (os.POSIX_SPAWN_DUP2, from_chrome, 4),
-                   (os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
-                   (os.POSIX_SPAWN_OPEN, 2, os.devnull, os.O_WRONLY, 0)]
-        self.pid = os.posix_spawn(cmd[0], cmd, os.environ, file_actions=actions, setpgroup=0)
-        os.close(to_chrome)
-        os.close(from_chrome)
-        self._buffer = b""
-        self._next_id = 0
-        self.session = None
-
-    def call(self, method, params=None, session=None):
-        self._next_id += 1
-        message = {"id": self._next_id, "method": method, "params": params or {}}
-        if session:
-            message["sessionId"] = session
-        os.write(self._out, json.dumps(message).encode() + b"\0")
-        while True:
-            while b"\0" in self._buffer:
-                raw, self._buffer = self._buffer.split(b"\0", 1)
-                reply = json.loads(raw)
-                if reply.get("id") == self._next_id:
-                    assert "error" not in reply, reply
-                    return reply["result"]
-            chunk = os.read(self._in, 1 << 20)
-            assert chunk, "chromium closed the DevTools pipe"
-            self._buffer += chunk
-
-    def open(self, url):
-        target = self.call("Target.createTarget", {"url": url})["targetId"]
-        self.session = self.call("Target.attachToTarget",
-                                 {"targetId": target, "flatten": True})["sessionId"]
-
-    def screenshot(self):
-        data = self.call("Page.captureScreenshot", {"format": "png"}, self.session)["data"]
-        return base64.b64decode(data)
-
-    def close(self):
-        os.killpg(self.pid, signal.SIGTERM)
-        os.waitpid(self.pid, 0)
-        os.close(self._in)
-        os.close(self._out)
-        shutil.rmtree(self._profile, ignore_errors=True)
 
 
 def beam_pixels(png, box):

@@ -166,10 +166,13 @@ def run_campaign(setup, seed=0, trace=False):
     return CampaignRun(result, readings, n, table)
 
 
-def identify_components(components, protocol=None, noise_m=None, seed=0):
-    """Run the campaign of each component; returns {name: (CampaignSetup, CampaignRun)}."""
+def identify_components(components, protocol=None, noise_m=None, seed=0, progress=None):
+    """Run the campaign of each component; returns {name: (CampaignSetup, CampaignRun)}.
+    ``progress`` (optional) is called with each component's name once it is done."""
     out = {}
     for component in components:
         setup = setup_campaign(component, protocol, noise_m)
         out[setup.name] = (setup, run_campaign(setup, seed))
+        if progress is not None:
+            progress(setup.name)
     return out

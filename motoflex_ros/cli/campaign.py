@@ -5,7 +5,8 @@ else a free one) with DDS on loopback (MOTOFLEX_DDS=network for a real bench), w
 all are up, runs the campaign of each component, shows progress, prints the identified values
 against the paper's Table 2, stops every node and leaves the bag in ``--out``
 (bags/<name>/: rosbag2 MCAP + identification.json, the same file ``motoflex identify --out``
-writes). A node that dies, SIGINT or SIGTERM stop the run with a message naming what happened.
+writes, and provenance.json: command, version, git commit, seed, sensor noise). A node that
+dies, SIGINT or SIGTERM stop the run with a message naming what happened.
 status.json is written last: "complete", or "failed" with the reason (and then no
 identification.json or report.html is left; see :mod:`motoflex_ros.launcher.status`).
 """
@@ -13,7 +14,8 @@ import json
 import time
 from pathlib import Path
 
-from motoflex_ros.cli.inputs import noise_argument, seed_argument
+from motoflex_ros.cli.inputs import namespace_argument, noise_argument, seed_argument
+from motoflex_ros.cli.options import add_component_option, components_of
 from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
@@ -26,8 +28,8 @@ def register(subparsers):
     """Add the ``campaign`` verb."""
     p = subparsers.add_parser("campaign", help="run the bench campaign through the ROS 2 graph",
                               description=__doc__.splitlines()[0])
-    p.add_argument("--components", nargs="+", metavar="NAME", default=list(DEFAULT_COMPONENTS),
-                   help="components (default: frame front_assembly swingarm)")
+    add_component_option(p, "a component (shipped name); repeatable (default: frame, "
+                            "front_assembly, swingarm)")
     p.add_argument("--protocol", metavar="FILE", help="protocol YAML (default: each "
                    "component's shipped protocol)")
     p.add_argument("--noise", type=noise_argument, metavar="SIGMA",
@@ -37,6 +39,9 @@ def register(subparsers):
                    help="seed of the sensor noise, a whole number >= 0 (default 0)")
     p.add_argument("--out", metavar="DIR", help="bag directory to create (default "
                    "bags/campaign_<UTC time>)")
+    p.add_argument("--namespace", type=namespace_argument, metavar="NS",
+                   help="run every node and topic under this ROS namespace (e.g. /rig_a: two "
+                        "rigs side by side in one ROS_DOMAIN_ID; default: the root, /)")
     p.add_argument("--json", action="store_true", help="print the results as JSON only")
     p.add_argument("--report", choices=("full", "quick", "none"), default="full",
                    help="at the end write <run>.rrd and report.html: 'full' computes the "
@@ -48,6 +53,7 @@ def register(subparsers):
 def run(args):
     """Run the graph; print the table (or JSON); returns the exit code."""
     from motoflex_ros.launcher.campaign import RESULT_FILE, VEHICLE_VARIANT, run_campaign_graph
+    from motoflex_ros.launcher.provenance import write_provenance
     from motoflex_ros.launcher.status import run_status
     from motoflex_ros.record.mcap_bag import bag_info
     out = args.out or time.strftime("bags/campaign_%Y%m%d_%H%M%S", time.gmtime())
@@ -55,12 +61,16 @@ def run(args):
     if args.report != "none":
         from motoflex_ros.report.build import REPORT_FILE
         results.append(REPORT_FILE)
+    started = time.time()
     with run_status(out, results):   # status.json last: complete, or failed and no results
-        outcome = run_campaign_graph(args.components, out, args.noise, args.seed,
-                                     args.protocol, progress=not args.json)
+        # progress on stderr, also with --json (stdout then holds the JSON alone)
+        components = components_of(args, DEFAULT_COMPONENTS)
+        outcome = run_campaign_graph(components, out, args.noise, args.seed, args.protocol,
+                                     progress=True, namespace=args.namespace)
+        write_provenance(outcome.bag, getattr(args, "argv", ["campaign"]), components,
+                         args.seed, args.noise, args.protocol, started)
         timings = {"graph": outcome.wall_s}
-        written = _recording_and_report(outcome.bag, args.report, timings,
-                                        progress=not args.json)
+        written = _recording_and_report(outcome.bag, args.report, timings, progress=True)
     if args.json:
         emit_json(outcome.results)
         return 0
@@ -85,9 +95,9 @@ def _recording_and_report(bag, mode, timings, progress):
     """
     written = []
     if mode != "none":
-        from motoflex_ros.record.rerun_bag import convert_bag
+        from motoflex_ros.cli.recording import write_recording
         start = time.perf_counter()
-        rrd, _ = convert_bag(bag, progress=progress)
+        rrd, _ = write_recording(bag, progress=progress)
         timings["rerun recording"] = time.perf_counter() - start
         written.append(rrd)
     timings_file = Path(bag) / "timings.json"

@@ -12,7 +12,7 @@ f_bending_full_hz, frequency_model, warnings}}; --plot DIR writes one PNG per co
 import sys
 from pathlib import Path
 
-from motoflex_ros.cli.output import emit_json, print_table
+from motoflex_ros.cli.output import emit_json, print_table, progress_bar
 
 __all__ = ["register", "run", "FREQUENCY_MODEL"]
 
@@ -31,6 +31,11 @@ def register(subparsers):
                              "YAML file; repeatable (default: the three motorcycle components)")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--plot", metavar="DIR", help="write a PNG per component into DIR")
+    parser.add_argument("--bodies", action="store_true",
+                        help="also list each component's flexible bodies as the paper's Table "
+                             "A.1 does (FE DOFs, reduced modes+boundary DOFs) and what their "
+                             "assembly gives against the single FE model (--json: key "
+                             "'bodies')")
     parser.set_defaults(func=run)
 
 
@@ -102,14 +107,45 @@ def run(args):
     summaries = [summarize(c, r) for c, r in zip(components, reduced)]
     if args.plot:
         from motoflex_ros.plots.components import plot_component
-        for comp, red in zip(components, reduced):
-            plot_component(comp, red, Path(args.plot) / f"{comp.name}.png")
+        with progress_bar(len(components), "plots", "component") as bar:
+            for comp, red in zip(components, reduced):
+                plot_component(comp, red, Path(args.plot) / f"{comp.name}.png")
+                bar.update(1)
+    bodies = {c.name: _bodies_entry(c, s) for c, s in zip(components, summaries)
+              if args.bodies}
     if args.json:
-        emit_json({s.name: _entry(s) for s in summaries})
+        emit_json({s.name: {**_entry(s), **({"bodies": bodies[s.name]} if bodies else {})}
+                   for s in summaries})
         return 0
     print_table(["component", "DOFs", "modes", "quantity", "ours (reduced)", "full model",
                  "paper", "difference"], _rows(summaries))
+    if bodies:
+        print_table(["component", "body", "DOFs FEM", "DOFs after MOR (modes+boundary)"],
+                    [[name, b["name"], b["fe_dofs"], b["reduced"]]
+                     for name, entry in bodies.items() for b in entry["list"]])
+        print_table(["component", "assembled bodies: f_torsion [Hz]", "f_bending [Hz]",
+                     "single FE model: f_torsion [Hz]", "f_bending [Hz]"],
+                    [[name, _fmt(e["f_torsion_hz"], ".2f"), _fmt(e["f_bending_hz"], ".2f"),
+                      _fmt(s.f_torsion_full_hz, ".2f"), _fmt(s.f_bending_full_hz, ".2f")]
+                     for (name, e), s in zip(bodies.items(), summaries)])
     for s in summaries:
         for warning in s.warnings:
             sys.stdout.write(f"warning: {warning}\n")
     return 0
+
+
+def _bodies_entry(component, summary):
+    """The component's flexible bodies (paper Table A.1) and the frequencies of their assembly
+    nearest the single model's first torsion and bending (``structures.bodies``)."""
+    import numpy as np
+
+    from motoflex_ros.structures.bodies import assemble_bodies, reduce_bodies
+    bodies = reduce_bodies(component)
+    freqs = assemble_bodies(component, bodies).frequencies_hz()
+
+    def nearest(f):
+        return _finite(freqs[np.argmin(np.abs(freqs - f))]) if f == f else None
+    return {"list": [{"name": b.name, "fe_dofs": b.fe_dofs, "reduced": b.table_a1()}
+                     for b in bodies if len(b.nodes) > 1],   # not the nodes held by springs
+            "f_torsion_hz": nearest(summary.f_torsion_full_hz),
+            "f_bending_hz": nearest(summary.f_bending_full_hz)}

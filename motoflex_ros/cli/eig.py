@@ -1,13 +1,15 @@
 """``motoflex eig``: eigenvalues of a vehicle over speed, with weave, wobble and capsize.
 
-    motoflex eig --vehicle FILE (--speeds V... | --range-kmh LO HI --step S) [--json] [--plot DIR]
-                 [--flex VARIANT] [--components frame,front_assembly,swingarm]
-                 [--identified FILE]
+    motoflex eig --vehicle FILE (--speeds-kmh V... | --speeds-ms V... | --range-kmh LO HI
+                 [--step-kmh S]) [--json] [--plot DIR] [--flex VARIANT]
+                 [--component NAME ...] [--identified FILE]
 
-Speeds after --speeds are in m/s; --range-kmh gives km/h (inclusive of HI when it falls on the
-step). --json prints {"vehicle", "variant" (of --flex), "components" (made flexible; [] when
-rigid), "speeds_mps", "eigenvalues" ([[re, im], ...] per speed, 1/s), "modes": {"weave",
-"wobble", "capsize": [[re, im] | null per speed]}}. --plot DIR writes the root locus and
+Speeds: --speeds-kmh in km/h, --speeds-ms in m/s, --range-kmh LO HI in steps of --step-kmh
+(default 5 km/h; inclusive of HI when it falls on the step). The older --speeds (m/s), --step
+and comma-separated --components still work, with a deprecation warning.
+--json prints {"vehicle", "variant" (of --flex), "components" (made flexible; [] when rigid),
+"speeds_mps", "eigenvalues" ([[re, im], ...] per speed, 1/s), "modes": {"weave", "wobble",
+"capsize": [[re, im] | null per speed]}}. --plot DIR writes the root locus and
 weave/wobble frequency and real part against speed (PNG).
 
 --flex puts the components' flexibility into the rigid vehicle: ``flexible`` (Craig-Bampton
@@ -17,10 +19,12 @@ offline unless --identified gives a result file of ``motoflex identify --out``).
 """
 import math
 import sys
+from argparse import SUPPRESS
 
 import numpy as np
 
 from motoflex_ros.cli.inputs import identification_results, motorcycle_components
+from motoflex_ros.cli.options import add_component_option, deprecated
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.config import resolve_config
 from motoflex_ros.errors import ConfigError
@@ -35,6 +39,7 @@ from motoflex_ros.vehicle.variants import FLEX_CHOICES, parse_components
 __all__ = ["register", "run", "requested_speeds", "sweep_to_json", "model_to_json"]
 
 _ARGS = "command line"
+STEP_KMH = 5.0   # default step of --range-kmh [km/h]
 
 
 def register(subparsers):
@@ -46,40 +51,51 @@ def register(subparsers):
     parser.add_argument("--vehicle", required=True,
                         help="vehicle YAML file, or the name of a shipped vehicle (touring)")
     speeds = parser.add_mutually_exclusive_group(required=True)
-    speeds.add_argument("--speeds", type=float, nargs="+", metavar="V", help="speeds [m/s]")
+    speeds.add_argument("--speeds-kmh", type=float, nargs="+", metavar="V", help="speeds [km/h]")
+    speeds.add_argument("--speeds-ms", type=float, nargs="+", metavar="V", help="speeds [m/s]")
+    speeds.add_argument("--speeds", type=float, nargs="+", dest="speeds_ms",
+                        action=deprecated("--speeds-ms (or --speeds-kmh)"), help=SUPPRESS,
+                        default=SUPPRESS)
     speeds.add_argument("--range-kmh", type=float, nargs=2, metavar=("LO", "HI"),
                         help="speed range [km/h]")
-    parser.add_argument("--step", type=float, help="step of --range-kmh [km/h]")
+    parser.add_argument("--step-kmh", type=float, default=STEP_KMH, metavar="S",
+                        help="step of --range-kmh [km/h]")
+    parser.add_argument("--step", type=float, dest="step_kmh", action=deprecated("--step-kmh"),
+                        help=SUPPRESS, default=SUPPRESS)
     parser.add_argument("--json", action="store_true", help="print JSON only")
     parser.add_argument("--plot", metavar="DIR", help="write root locus and mode plots (PNG)")
     parser.add_argument("--flex", default="rigid", choices=FLEX_CHOICES,
                         help="rigid (default), flexible or a lumped stiffness variant")
-    parser.add_argument("--components", default="all",
-                        help="comma-separated components made flexible (default all)")
+    add_component_option(parser, "a component made flexible; repeatable (default: all three)")
     parser.add_argument("--identified", metavar="FILE",
                         help="identification results (YAML/JSON of motoflex identify --out)")
     parser.set_defaults(func=run)
 
 
 def requested_speeds(args):
-    """Speeds [m/s] from --speeds or --range-kmh/--step; ConfigError on bad values, on a speed
-    above SPEED_MAX_MPS and on more speeds than the 'speeds' limit (sized before any array)."""
-    if args.speeds is not None:
-        check_limit("speeds", len(args.speeds), _ARGS, "--speeds")
-        speeds = np.asarray(args.speeds, float)
-        key = "--speeds"
+    """Speeds [m/s] from --speeds-kmh, --speeds-ms or --range-kmh/--step-kmh; ConfigError on
+    bad values, on a speed above SPEED_MAX_MPS and on more speeds than the 'speeds' limit (sized
+    before any array)."""
+    given = [(key, values, factor) for key, values, factor in
+             (("--speeds-kmh", args.speeds_kmh, 1 / 3.6), ("--speeds-ms", args.speeds_ms, 1.0))
+             if values is not None]
+    if given:
+        key, values, factor = given[0]
+        check_limit("speeds", len(values), _ARGS, key)
+        speeds = np.asarray(values, float) * factor
     else:
-        if args.step is None or not args.step > 0:
-            raise ConfigError(_ARGS, "--step", "give a step > 0 km/h with --range-kmh")
+        step = args.step_kmh
+        if step is None or not step > 0:
+            raise ConfigError(_ARGS, "--step-kmh", "give a step > 0 km/h with --range-kmh")
         low, high = args.range_kmh
         if not high >= low:
             raise ConfigError(_ARGS, "--range-kmh", f"HI {high:g} must be >= LO {low:g}")
         key = "--range-kmh"
         check_top_speed(high / 3.6, key)
-        count = math.floor((high - low) / args.step + 1e-9) + 1
-        check_limit("speeds", count, _ARGS, "--step", f"--range-kmh {low:g} {high:g} in "
-                                                      f"steps of {args.step:g} km/h")
-        speeds = (low + args.step * np.arange(count)) / 3.6
+        count = math.floor((high - low) / step + 1e-9) + 1
+        check_limit("speeds", count, _ARGS, "--step-kmh", f"--range-kmh {low:g} {high:g} in "
+                                                          f"steps of {step:g} km/h")
+        speeds = (low + step * np.arange(count)) / 3.6
     bad = speeds[~(np.isfinite(speeds) & (speeds > 0))]
     if bad.size:
         raise ConfigError(_ARGS, key, f"speeds must be finite and > 0, got {bad[0]:g}")
@@ -110,7 +126,7 @@ def model_to_json(args):
     """What the eigenvalues are of: {"vehicle", "variant", "components"} of the arguments."""
     rigid = args.flex == "rigid"
     return {"vehicle": args.vehicle, "variant": args.flex,
-            "components": [] if rigid else parse_components(args.components)}
+            "components": [] if rigid else parse_components(args.component)}
 
 
 def _cell(z, part):
@@ -134,7 +150,7 @@ def variant_of(model, args):
     """The vehicle with the flexibility asked for by --flex/--components/--identified."""
     if args.flex == "rigid":
         return model
-    names = parse_components(args.components)
+    names = parse_components(args.component)
     components = motorcycle_components(names)
     identified = {}
     if args.flex != "flexible":

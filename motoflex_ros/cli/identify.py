@@ -14,7 +14,13 @@ import sys
 from pathlib import Path
 
 from motoflex_ros.cli.inputs import noise_argument, seed_argument
-from motoflex_ros.cli.output import add_force_option, check_new_file, emit_json, print_table
+from motoflex_ros.cli.output import (
+    add_force_option,
+    check_new_file,
+    emit_json,
+    print_table,
+    progress_bar,
+)
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.results_file import write_results
 
@@ -152,7 +158,7 @@ def run_measured(args):
         write_results(args.out, results)
     if args.plot:
         from motoflex_ros.plots.axes import plot_measured_axes
-        plot_measured_axes(bench.name, bench.q0, identification,
+        plot_measured_axes(bench.name, bench.q0, results[bench.name],
                            Path(args.plot) / f"{bench.name}_axes.png")
     if args.json:
         emit_json(results)
@@ -193,14 +199,17 @@ def run(args):
     components = args.component or list(DEFAULT_COMPONENTS)
     if args.out:
         check_new_file(args.out, args.force)
-    runs = identify_components(components, args.protocol, args.noise, args.seed)
+    with progress_bar(len(components), "bench identification", "component") as bar:
+        runs = identify_components(components, args.protocol, args.noise, args.seed,
+                                   progress=lambda _name: bar.update(1))
     results = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
     if args.out:
         write_results(args.out, results)
     if args.plot:
         from motoflex_ros.plots.axes import plot_component_axes
-        for name, (setup, run) in runs.items():
-            plot_component_axes(setup, run.identification, Path(args.plot) / f"{name}_axes.png")
+        for name, (setup, _) in runs.items():
+            plot_component_axes(setup.component, results[name],
+                                Path(args.plot) / f"{name}_axes.png")
     if args.json:
         emit_json(results)
     else:

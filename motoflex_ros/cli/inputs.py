@@ -22,9 +22,11 @@ def identification_results(path=None, components=COMPONENTS, seed=0):
         from motoflex_ros.identify.results import load_results_file
         return load_results_file(Path(path))
     from motoflex_ros.bench.campaign import identify_components
-
+    from motoflex_ros.cli.output import progress_bar
     print("running the bench identification ...", file=sys.stderr)
-    runs = identify_components(list(components), seed=seed)
+    with progress_bar(len(components), "bench identification", "component") as bar:
+        runs = identify_components(list(components), seed=seed,
+                                   progress=lambda _name: bar.update(1))
     return {name: run.identification.to_dict() for name, (_, run) in runs.items()}
 
 
@@ -65,6 +67,19 @@ def noise_argument(text):
         return checked_noise(float(text), "command line", "--noise")
     except ValueError as exc:  # ConfigError is a ValueError; so is float('abc')
         raise argparse.ArgumentTypeError(getattr(exc, "problem", str(exc))) from None
+
+
+def namespace_argument(text):
+    """Type of --namespace for argparse: a ROS namespace ('/rig_a', 'lab/rig_a'), returned
+    with its leading '/'; names of letters, digits and '_', not starting with a digit."""
+    import argparse
+    import re
+    name = "/" + text.strip().strip("/")
+    if not re.fullmatch(r"(/[A-Za-z_][A-Za-z0-9_]*)+", name):
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is no ROS namespace: expected names of letters, digits and '_' that do "
+            "not start with a digit, separated by '/' (e.g. /rig_a)")
+    return name
 
 
 def seed_argument(text):

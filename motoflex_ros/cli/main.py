@@ -10,6 +10,7 @@ import importlib
 import os
 import sys
 
+from motoflex_ros.cli.options import state_defaults
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.limits import LIMITS, parse_limit, set_limit
 
@@ -37,6 +38,7 @@ def build_parser():
             raise
         module.register(subparsers)
     _add_limit_option(subparsers)
+    state_defaults(parser)
     return parser
 
 
@@ -65,6 +67,7 @@ def _add_limit_option(subparsers):
 def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)   # the command, for provenance
     for name, value in getattr(args, "limit", []):
         set_limit(name, value)
     try:

@@ -46,3 +46,10 @@ def print_table(header, rows, stream=None):
                                for j, (c, w) in enumerate(zip(row, widths))) + "\n")
         if i == 0:
             stream.write("  ".join("-" * w for w in widths) + "\n")
+
+
+def progress_bar(total, desc, unit):
+    """The verbs' progress bar: tqdm on stderr (stdout keeps the table or the JSON alone, so it
+    shows with --json too); off when stderr is not a terminal (tqdm's disable=None)."""
+    from tqdm import tqdm
+    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, disable=None)

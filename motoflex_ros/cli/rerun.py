@@ -2,6 +2,8 @@
 from pathlib import Path
 
 from motoflex_ros.cli.output import add_force_option, check_new_file
+from motoflex_ros.cli.recording import MODE_SPEED_KMH, write_recording
+from motoflex_ros.errors import ConfigError
 
 __all__ = ["register", "run"]
 
@@ -21,15 +23,21 @@ def register(subparsers):
                         help="shipped vehicle drawn with its modes and road test, or 'none' "
                              "(default: touring; its lumped 'static' variant when the run "
                              "folder holds identification results)")
+    parser.add_argument("--mode-speed-kmh", type=float, default=MODE_SPEED_KMH, metavar="V",
+                        help="speed of the animated weave and wobble and of the road test "
+                             "[km/h], in (0, 400]")
     parser.set_defaults(func=run)
 
 
 def run(args):
-    from motoflex_ros.record.rerun_bag import convert_bag
+    if not 0.0 < args.mode_speed_kmh <= 400.0:
+        raise ConfigError("command line", "--mode-speed-kmh",
+                          f"must be in (0, 400] km/h, got {args.mode_speed_kmh:g}")
     if args.out is not None:
         check_new_file(args.out, args.force)
     vehicle = None if args.vehicle == "none" else args.vehicle
-    path, converted = convert_bag(args.bag, args.out, vehicle, progress=True)
+    path, converted = write_recording(args.bag, args.out, vehicle, progress=True,
+                                      speed_kmh=args.mode_speed_kmh)
     print(f"wrote {path}")
     for item in converted:
         print(f"  {item}")

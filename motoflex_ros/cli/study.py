@@ -1,6 +1,6 @@
 """``motoflex study``: studies on the lumped motorcycle (Passigato et al. 2023, Sect. 4.3, 5.3).
 
-    motoflex study sensitivity [--levels 2] [--range 0.10] [--scheduler ADDRESS|local]
+    motoflex study sensitivity [--levels 2] [--range-rel 0.10] [--scheduler ADDRESS|local]
                                [--identified FILE] [--nominal identified|table2]
                                [--vehicle touring] [--step-kmh 1] [--json] [--plot DIR]
 
@@ -13,12 +13,14 @@ not vary). --plot DIR writes the Fig. 10 bar chart and the runs' weave/wobble re
 Without --identified the bench identification runs first (motoflex identify); --nominal table2
 takes k_t, k_b from the paper's Table 2 instead (axes still from the identification).
 """
+import argparse
 import sys
 from pathlib import Path
 
 import numpy as np
 
 from motoflex_ros.cli.inputs import add_study_inputs, identification_results, study_speeds
+from motoflex_ros.cli.options import deprecated
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.cli.study_accuracy import register_accuracy
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS, resolve_config
@@ -35,7 +37,9 @@ def _register_sensitivity(sub):
                        description="Sensitivity of weave and wobble to the six lumped "
                                    "stiffnesses (Passigato et al. 2023, Sect. 5.3).")
     p.add_argument("--levels", type=int, default=2, help="levels per factor (default 2)")
-    p.add_argument("--range", type=float, default=0.10, dest="rel_range",
+    p.add_argument("--range", type=float, dest="rel_range", help=argparse.SUPPRESS,
+                   action=deprecated("--range-rel"), default=argparse.SUPPRESS)
+    p.add_argument("--range-rel", type=float, default=0.10, dest="rel_range",
                    help="relative half-range of the stiffnesses (default 0.10)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on Dask: a scheduler address (tcp://host:8786) or 'local'")

@@ -12,15 +12,13 @@ writes the Fig. 8 bars and the Fig. 9 curves of the front assembly.
 import sys
 from pathlib import Path
 
-from tqdm import tqdm
-
 from motoflex_ros.cli.inputs import (
     add_study_inputs,
     identification_results,
     motorcycle_components,
     study_speeds,
 )
-from motoflex_ros.cli.output import emit_json, print_table
+from motoflex_ros.cli.output import emit_json, print_table, progress_bar
 from motoflex_ros.config import resolve_config
 
 __all__ = ["register_accuracy", "run_accuracy"]
@@ -55,8 +53,7 @@ def run_accuracy(args):
     vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
     identified = identification_results(args.identified)
     components = motorcycle_components()
-    with tqdm(total=len(CASES) * (1 + len(ACCURACY_VARIANTS)), desc="models", unit="model",
-              file=sys.stderr, disable=None) as bar:
+    with progress_bar(len(CASES) * (1 + len(ACCURACY_VARIANTS)), "models", "model") as bar:
         result = accuracy_study(vehicle, components, identified, speeds,
                                 progress=lambda: bar.update(1))
     if args.plot:

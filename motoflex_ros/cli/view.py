@@ -2,9 +2,11 @@
 
 Native: spawns the rerun viewer on bags/<run>/<run>.rrd (converting the bag first if the .rrd
 does not exist yet). ``--web``: serves the web viewer on 127.0.0.1 only, prints the address and
-serves until Ctrl-C. The viewer's usage analytics are switched off first unless ``--telemetry``.
+serves until Ctrl-C. The viewer runs with usage analytics off in a configuration folder of its
+own (:mod:`motoflex_ros.record.rerun_private`): the user's rerun configuration is neither read
+nor written. ``--telemetry`` runs it with the user's configuration as it is.
 """
-import json
+import contextlib
 import os
 import signal
 import socket
@@ -15,7 +17,7 @@ from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
 
-__all__ = ["register", "run", "web_address", "free_port", "disable_analytics"]
+__all__ = ["register", "run", "web_address", "free_port"]
 
 READY_TIMEOUT_S = 60.0
 
@@ -30,7 +32,9 @@ def register(subparsers):
     parser.add_argument("--web-port", type=int, default=0, help="HTTP port (default: free)")
     parser.add_argument("--grpc-port", type=int, default=0, help="gRPC port (default: free)")
     parser.add_argument("--telemetry", action="store_true",
-                        help="leave rerun's usage analytics as configured (default: off)")
+                        help="run the viewer with your own rerun configuration, analytics as "
+                             "you set them (default: analytics off, your configuration "
+                             "untouched)")
     parser.set_defaults(func=run)
 
 
@@ -47,25 +51,15 @@ def web_address(web_port, grpc_port):
             "%2Fproxy")
 
 
-def disable_analytics(rerun):
-    """Switch rerun's usage analytics off (rerun's own config) if they are on."""
-    config = subprocess.run([rerun, "analytics", "config"], capture_output=True, text=True)
-    try:
-        enabled = json.loads(config.stdout).get("analytics_enabled", True)
-    except json.JSONDecodeError:
-        enabled = True
-    if enabled:
-        subprocess.run([rerun, "analytics", "disable"], capture_output=True, check=False)
-
-
 def _recording(folder):
-    from motoflex_ros.record.rerun_bag import convert_bag, rrd_path_of
+    from motoflex_ros.cli.recording import write_recording
+    from motoflex_ros.record.rerun_bag import rrd_path_of
     rrd = rrd_path_of(folder)
     if not rrd.is_file():
         if not (folder / "metadata.yaml").is_file():
             raise MotoflexError(f"{folder}: no {rrd.name} and no bag to make it from")
         print(f"converting the bag into {rrd} ...", file=sys.stderr)
-        convert_bag(folder, progress=True)
+        write_recording(folder, progress=True)
     return rrd
 
 
@@ -93,12 +87,12 @@ def _stop(child):
             child.wait()
 
 
-def _start_web_viewer(command, web_port):
+def _start_web_viewer(command, web_port, env):
     """Start the web viewer process; return it once its HTTP port accepts connections.
 
     BROWSER=true keeps the viewer from opening a browser itself: we print the address.
     """
-    env = dict(os.environ, BROWSER="true")
+    env = dict(env, BROWSER="true")
     child = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                              env=env)
     try:
@@ -109,21 +103,32 @@ def _start_web_viewer(command, web_port):
     return child
 
 
+def _environment(rerun, telemetry):
+    """The viewer's environment: the user's own (``telemetry``) or a private one."""
+    if telemetry:
+        return contextlib.nullcontext(dict(os.environ))
+    from motoflex_ros.record.rerun_private import private_rerun_env
+    return private_rerun_env(rerun)
+
+
 def run(args):
     from motoflex_ros.record.rerun_readback import rerun_executable
     from motoflex_ros.report.run_folder import run_folder
     folder = run_folder(args.run)
     rrd = _recording(folder)
     rerun = rerun_executable()
-    if not args.telemetry:
-        disable_analytics(rerun)
-    if not args.web:
-        return subprocess.call([rerun, str(rrd)])
+    with _environment(rerun, args.telemetry) as env:
+        if not args.web:
+            return subprocess.call([rerun, str(rrd)], env=env)
+        return _serve(rerun, rrd, args, env)
+
+
+def _serve(rerun, rrd, args, env):
     web_port = args.web_port or free_port()
     grpc_port = args.grpc_port or free_port()
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))   # stop the child on SIGTERM too
     child = _start_web_viewer([rerun, "--web-viewer", "--bind", "127.0.0.1", "--web-viewer-port",
-                               str(web_port), "--port", str(grpc_port), str(rrd)], web_port)
+                               str(web_port), "--port", str(grpc_port), str(rrd)], web_port, env)
     print(f"web viewer of {rrd.name}: {web_address(web_port, grpc_port)}", flush=True)
     print("serving on 127.0.0.1 only; Ctrl-C to stop", file=sys.stderr, flush=True)
     try:

@@ -14,12 +14,13 @@ from pathlib import Path
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.launcher.graph import NodeSpec
 from motoflex_ros.launcher.run import RunFailed, run_graph, work_folder
+from motoflex_ros.record.tf_bag import TF_LIVE, TF_STATIC_LIVE
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
            "planned_duration", "RESULT_FILE", "VEHICLE_COMPONENTS", "VEHICLE_VARIANT"]
 
 RESULT_FILE = "identification.json"
-BENCH_LEAVES = ("load", "phase", "markers/true", "markers/measured", "pose")
+BENCH_LEAVES = ("load", "phase", "markers/true", "markers/measured", "pose", "structure")
 
 
 @dataclass(frozen=True)
@@ -35,8 +36,12 @@ class CampaignOutcome:
     vehicle: dict
 
 
+MODES = ("weave", "wobble", "capsize")
 VEHICLE_TOPICS = ("/vehicle/eigenvalues", "/vehicle/joint_states", "/vehicle/bodies",
-                  "/vehicle/joint_axes")
+                  "/vehicle/joint_axes", f"/{TF_LIVE}", "/vehicle/modes/speed_kmh",
+                  *(f"/vehicle/modes/{m}/{q}" for m in MODES for q in ("frequency_hz",
+                                                                      "real_part")))
+
 VEHICLE_COMPONENTS = MOTORCYCLE_COMPONENTS
 VEHICLE_VARIANT = "static"
 """The lumped variant (Sect. 5.2) the campaign's vehicle_simulator builds of the identified
@@ -51,8 +56,15 @@ def with_vehicle(components):
 def campaign_topics(components):
     """Every topic the campaign records."""
     vehicle = list(VEHICLE_TOPICS) if with_vehicle(components) else []
-    return ["/clock", "/identification/results"] + [
-        f"/bench/{c}/{leaf}" for c in components for leaf in BENCH_LEAVES] + vehicle
+    return ["/clock", "/identification/results", f"/{TF_STATIC_LIVE}"] + [
+        f"/bench/{c}/{leaf}" for c in components for leaf in BENCH_LEAVES] + \
+        identified_topics(components) + vehicle
+
+
+def identified_topics(components):
+    """The numeric identification topics /identification/<c>/{k, l, beta}."""
+    from motoflex_ros.nodes.conversions import IDENTIFIED_UNITS
+    return [f"/identification/{c}/{q}" for c in components for q in IDENTIFIED_UNITS]
 
 
 def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_file=None):
@@ -71,7 +83,8 @@ def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_fi
         NodeSpec("identification", {**bench,
                                     "result_file": str(result_file or Path(bag) / RESULT_FILE)}),
         NodeSpec("recorder", {"bag": str(bag), "topics": campaign_topics(components),
-                              "late_topics": ["/identification/results", *VEHICLE_TOPICS]}),
+                              "late_topics": ["/identification/results", *VEHICLE_TOPICS,
+                                              *identified_topics(components)]}),
     ]
 
 
@@ -93,9 +106,10 @@ def _diagnostic_array():
 
 
 def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progress=False,
-                       work_dir=None):
+                       work_dir=None, namespace=None):
     """Run the campaign through the graph; returns a :class:`CampaignOutcome`. The results
-    file gets its name only once every node finished cleanly (until then it is staged)."""
+    file gets its name only once every node finished cleanly (until then it is staged).
+    ``namespace`` ('/rig_a') puts every node and topic under it (two rigs in one domain)."""
     from motoflex_ros.launcher.status import staged
     from motoflex_ros.record.mcap_bag import check_new_bag_dir
     bag = check_new_bag_dir(bag)
@@ -108,13 +122,14 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
     with work_folder("motoflex_campaign_", work_dir, keep_logs_in=bag) as work_dir:
         run = run_graph(specs, "load_actuator", planned_duration(components, noise, protocol),
                         work_dir=work_dir, progress=progress, finishers=finishers,
-                        collect=[("/vehicle/eigenvalues", _diagnostic_array())])
+                        collect=[("vehicle/eigenvalues", _diagnostic_array())],
+                        namespace=namespace)
         if not staged(result_file).is_file():
             raise RunFailed(f"the identification node wrote no {RESULT_FILE} in {bag}; its "
                             f"log: {work_dir / 'log' / 'identification.log'}")
     staged(result_file).replace(result_file)
     results = json.loads(result_file.read_text())
-    eig = run.collected["/vehicle/eigenvalues"]
+    eig = run.collected["vehicle/eigenvalues"]
     vehicle = {s.name.split("/")[1]: {kv.key: json.loads(kv.value) for kv in s.values}
                for s in eig[-1].status} if eig else {}
     return CampaignOutcome(results, bag, result_file, time.monotonic() - start, run.domain_id,

@@ -5,6 +5,11 @@ its lifetime; the lock disappears with the process (even when it is killed), so 
 leaked. An id set in ``ROS_DOMAIN_ID`` is honoured, and refused while another run holds it.
 Otherwise the first id that no run holds and whose DDS ports nobody on this machine has bound
 (another ROS graph) is taken, from 1-101, the range the ROS 2 documentation calls safe on Linux.
+
+Runs in namespaces of their own (``--namespace /rig_a``: every topic under it) may share a
+requested id: each holds the id's lock shared and an exclusive lock on ``<id>@<namespace>``, so
+two rigs in one domain never take the same namespace, and a run at the root namespace (whose
+topics would meet theirs) still has the id to itself.
 """
 import fcntl
 import os
@@ -60,33 +65,47 @@ class DomainLock:
     """Context manager holding a domain id (``.domain_id``): ``domain_id`` if given (refused
     with :class:`DomainBusy` while another run holds it), else a free one."""
 
-    def __init__(self, lock_dir=None, domain_id=None):
+    def __init__(self, lock_dir=None, domain_id=None, namespace=None):
         # one place for every run of this machine, whatever TMPDIR says
         shared = Path("/tmp") if Path("/tmp").is_dir() else Path(tempfile.gettempdir())
         self.lock_dir = Path(lock_dir or shared / "motoflex_ros_domains")
         self.requested = domain_id
+        self.namespace = (namespace or "/").strip("/")
         self.domain_id = None
-        self._fd = None
+        self._fds = []
 
-    def _try_lock(self, candidate):
-        fd = os.open(self.lock_dir / f"{candidate}.lock", os.O_CREAT | os.O_RDWR, 0o666)
+    def _flock(self, name, shared=False):
+        """A file descriptor of lock file ``name`` locked (exclusive or shared), or None."""
+        fd = os.open(self.lock_dir / name, os.O_CREAT | os.O_RDWR, 0o666)
         try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            fcntl.flock(fd, (fcntl.LOCK_SH if shared else fcntl.LOCK_EX) | fcntl.LOCK_NB)
         except OSError:
             os.close(fd)
+            return None
+        return fd
+
+    def _try_lock(self, candidate, share=False):
+        fds = [self._flock(f"{candidate}.lock", shared=share)]
+        if share and fds[0] is not None:
+            fds.append(self._flock(f"{candidate}@{self.namespace.replace('/', '.')}.lock"))
+        if None in fds:
+            for fd in fds:
+                if fd is not None:
+                    os.close(fd)
             return False
-        self.domain_id, self._fd = candidate, fd
+        self.domain_id, self._fds = candidate, fds
         return True
 
     def acquire(self):
         """Lock the requested id, or the first free one from an offset derived from the pid."""
         self.lock_dir.mkdir(parents=True, exist_ok=True)
         if self.requested is not None:
-            if not self._try_lock(self.requested):
-                raise DomainBusy(f"ROS_DOMAIN_ID {self.requested} is in use by another motoflex "
-                                 f"run on this machine (lock {self.lock_dir}/{self.requested}"
-                                 ".lock); choose another id, or unset ROS_DOMAIN_ID to get a "
-                                 "free one")
+            if not self._try_lock(self.requested, share=bool(self.namespace)):
+                where = f" in namespace /{self.namespace}" if self.namespace else ""
+                raise DomainBusy(f"ROS_DOMAIN_ID {self.requested} is in use{where} by another "
+                                 f"motoflex run on this machine (lock {self.lock_dir}/"
+                                 f"{self.requested}.lock); choose another id or namespace, or "
+                                 "unset ROS_DOMAIN_ID to get a free one")
             return self.requested
         n = len(DOMAIN_IDS)
         start = os.getpid() % n
@@ -105,9 +124,9 @@ class DomainLock:
 
     def release(self):
         """Give the id back."""
-        if self._fd is not None:
-            os.close(self._fd)
-            self._fd = None
+        for fd in self._fds:
+            os.close(fd)
+        self._fds = []
 
     def __enter__(self):
         self.acquire()

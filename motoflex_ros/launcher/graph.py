@@ -2,7 +2,9 @@
 
 Every node runs as ``sys.executable -m motoflex_ros.nodes.<module> --ros-args --params-file
 <params>`` (the same interpreter, so the ROS wheels' bootstrap carries over) with its own
-``ROS_DOMAIN_ID``, DDS on loopback (:mod:`.dds`) and ``ROS_LOG_DIR``; stdout and
+``ROS_DOMAIN_ID``, DDS on loopback (:mod:`.dds`), ``ROS_LOG_DIR`` and, for a rig in a
+namespace, ``-r __ns:=<namespace>`` (its topics are relative: all of them move under it; /clock,
+which rclpy's time source reads, is remapped to <namespace>/clock); stdout and
 stderr go to ``<log_dir>/<node>.log``. The nodes write their publishers' GIDs to
 ``<work_dir>/endpoints`` and accept messages only from those
 (:mod:`motoflex_ros.nodes.endpoints`). Processes are ended by their own pid only: SIGINT, then
@@ -22,7 +24,8 @@ from motoflex_ros.errors import MotoflexError
 from motoflex_ros.launcher.dds import configure_dds
 from motoflex_ros.nodes.endpoints import ENDPOINTS_ENV
 
-__all__ = ["NodeSpec", "NodeGraph", "NodeDied", "ros_env", "describe_exit"]
+__all__ = ["NodeSpec", "NodeGraph", "NodeDied", "ros_env", "describe_exit", "namespace_args",
+           "node_key"]
 
 
 class NodeDied(MotoflexError):
@@ -56,6 +59,20 @@ def ros_env(domain_id, log_dir, base=None):
     return env
 
 
+def namespace_args(namespace):
+    """ROS arguments that put a node in ``namespace`` ('/rig_a'; none for '/')."""
+    namespace = "/" + namespace.strip("/")
+    if namespace == "/":
+        return []
+    return ["-r", f"__ns:={namespace}", "-r", f"/clock:={namespace}/clock"]
+
+
+def node_key(namespace, name):
+    """The section of a params file for node ``name`` in ``namespace`` ('/rig_a/recorder')."""
+    namespace = namespace.strip("/")
+    return f"/{namespace}/{name}" if namespace else name
+
+
 def describe_exit(code):
     """'exit 2', 'exit 143: stopped by SIGTERM' or 'killed by SIGKILL' for a Popen return
     code."""
@@ -69,9 +86,10 @@ def describe_exit(code):
 class NodeGraph:
     """The processes of one run. Use as a context manager: leaving it stops every node."""
 
-    def __init__(self, specs, domain_id, work_dir):
+    def __init__(self, specs, domain_id, work_dir, namespace=None):
         self.specs = tuple(specs)
         self.domain_id = domain_id
+        self.namespace = "/" + (namespace or "").strip("/")
         self.work_dir = Path(work_dir)
         self.log_dir = self.work_dir / "log"
         self.endpoints_dir = self.work_dir / "endpoints"
@@ -90,9 +108,11 @@ class NodeGraph:
         for spec in self.specs:
             params_file = params_dir / f"{spec.name}.yaml"
             params = {k: list(v) if isinstance(v, tuple) else v for k, v in spec.params.items()}
-            params_file.write_text(yaml.safe_dump({spec.name: {"ros__parameters": params}}))
+            params_file.write_text(yaml.safe_dump(
+                {node_key(self.namespace, spec.name): {"ros__parameters": params}}))
             cmd = [sys.executable, "-m", spec.module_name, "--ros-args",
-                   "-r", f"__node:={spec.name}", "--params-file", str(params_file)]
+                   "-r", f"__node:={spec.name}", *namespace_args(self.namespace),
+                   "--params-file", str(params_file)]
             with open(self.log_dir / f"{spec.name}.log", "wb") as log:
                 self.procs[spec.name] = subprocess.Popen(
                     cmd, env=env, stdout=log, stderr=subprocess.STDOUT,

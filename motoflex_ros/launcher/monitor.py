@@ -16,8 +16,8 @@ __all__ = ["Monitor"]
 class Monitor(Node):
     """Watches a running graph from the launching process."""
 
-    def __init__(self, context, names, collect=(), endpoints=None):
-        super().__init__("motoflex_monitor", context=context)
+    def __init__(self, context, names, collect=(), endpoints=None, namespace="/"):
+        super().__init__("motoflex_monitor", context=context, namespace=namespace)
         # the run's own publishers only (a foreign /clock, results...); no gap count: the
         # progress subscription keeps only the last /clock
         self.guard = InputGuard(self, endpoints, count_gaps=lambda sub: False)
@@ -28,7 +28,7 @@ class Monitor(Node):
         self.collected = {topic: [] for topic, _ in collect}
         self.create_subscription(String, READY_TOPIC, lambda m: self.ready.add(m.data),
                                  latched_qos())
-        self.create_subscription(Clock, "/clock", self._on_clock, 1)  # progress only
+        self.create_subscription(Clock, "clock", self._on_clock, 1)  # progress only
         for topic, msg_type in collect:
             self.create_subscription(msg_type, topic, self.collected[topic].append,
                                      latched_qos())
@@ -118,5 +118,7 @@ def _finished(graph, names):
 def _progress_bar(duration_s):
     from tqdm import tqdm
     return tqdm(total=round(duration_s, 3), unit="sim s", desc="campaign",
-                bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} sim s "
-                           "[{elapsed}<{remaining}]")
+                # the total is the protocol's longest plan: tests that settle sooner end the
+                # run earlier (the bar then jumps to its end), hence "at most"
+                bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f} sim s of at most "
+                           "{total:.2f} [{elapsed}<{remaining}]")

@@ -88,19 +88,22 @@ def _raise_on_sigterm(signum, frame):
 
 
 def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=False,
-              ready_timeout=60.0, drain_timeout=30.0, finishers=(), finish_timeout=300.0):
+              ready_timeout=60.0, drain_timeout=30.0, finishers=(), finish_timeout=300.0,
+              namespace=None):
     """Run ``specs`` until ``pacer`` exits 0 (and then every node in ``finishers``); returns a
-    :class:`RunResult`. ``collect``: (topic, msg_type) pairs whose messages the monitor keeps.
+    :class:`RunResult`. ``collect``: (topic, msg_type) pairs whose messages the monitor keeps
+    (topics relative to ``namespace``, where every node runs: None or '/' for the root).
     """
     work_dir = Path(work_dir or tempfile.mkdtemp(prefix="motoflex_run_"))
     previous = signal.signal(signal.SIGTERM, _raise_on_sigterm)
     start = time.monotonic()
     try:
         dds = configure_dds(os.environ)   # this process's monitor node; the nodes inherit it
-        with DomainLock(domain_id=requested_domain(os.environ)) as lock:
-            print(f"motoflex: ROS_DOMAIN_ID {lock.domain_id} ({lock.origin}); {dds}",
+        with DomainLock(domain_id=requested_domain(os.environ), namespace=namespace) as lock:
+            where = f", namespace {namespace}" if (namespace or "/").strip("/") else ""
+            print(f"motoflex: ROS_DOMAIN_ID {lock.domain_id} ({lock.origin}){where}; {dds}",
                   file=sys.stderr, flush=True)
-            graph = NodeGraph(specs, lock.domain_id, work_dir)
+            graph = NodeGraph(specs, lock.domain_id, work_dir, namespace)
             try:
                 graph.start()   # inside the try: a failure half-way stops what started
                 collected = _monitor(graph, pacer, duration_s, collect, progress,
@@ -132,7 +135,7 @@ def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending)
                signal_handler_options=SignalHandlerOptions.NO)
     try:
         monitor = Monitor(context, [s.name for s in graph.specs], collect,
-                          RunEndpoints(graph.endpoints_dir))
+                          RunEndpoints(graph.endpoints_dir), graph.namespace)
         finishers, finish_timeout, drain_timeout = ending
         monitor.wait_ready(graph, pacer, ready_timeout, finishers)
         monitor.follow(graph, pacer, duration_s, progress, finishers)

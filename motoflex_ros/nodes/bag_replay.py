@@ -1,10 +1,13 @@
 """bag_replay: republishes a recorded bag, its /clock included, in recording order.
 
-Parameters: ``bag`` (directory), ``rate`` (0: as fast as the acknowledging nodes allow; R > 0:
-R times the recorded speed), ``ack_from``/``wait_for``/``window``/``stall_timeout`` as for
-sim_clock (window in seconds of simulated time), ``exclude`` topic prefixes not to republish
-(default: the rig's own /rig/*). Messages go out as the recorded CDR bytes, unchanged, on
-reliable keep-all publishers, so a node fed from the replay sees exactly what it saw live.
+Topics go out relative to the node's namespace (a bag's /bench/x as /rig_a/bench/x under
+/rig_a). Parameters: ``bag`` (directory), ``rate`` (0: as fast as the acknowledging nodes
+allow; R > 0: R times the recorded speed), ``ack_from``/``wait_for``/``window``/
+``stall_timeout`` as for sim_clock (window in seconds of simulated time), ``exclude`` topic
+prefixes not to republish (default: the rig's own /rig/*; topics of a type this installation
+has no Python messages for, the bag's tf2_msgs /tf and /tf_static, are not either). Messages
+go out as the recorded CDR bytes, unchanged, on reliable keep-all publishers, so a node fed
+from the replay sees exactly what it saw live.
 """
 import sys
 import time
@@ -41,8 +44,15 @@ class BagReplay(RigNode):
             raise ParameterError("node 'bag_replay': parameter 'bag' is required")
         self.info = bag_info(p["bag"])
         skip = tuple(p["exclude"])
-        self.pubs = {t.name: self.advertise(message_class(t.type), t.name)
-                     for t in self.info.topics if not t.name.startswith(skip)}
+        self.pubs = {}
+        for t in self.info.topics:
+            if t.name.startswith(skip):
+                continue
+            try:
+                self.pubs[t.name] = self.advertise(message_class(t.type), t.name.lstrip("/"))
+            except ImportError:   # tf2_msgs (the bag's /tf): no wheel for rclpy here
+                self.get_logger().info(f"{t.name} not republished: no Python messages of "
+                                       f"{t.type} in this installation")
         self.messages = (m for m in read_messages(p["bag"], topics=list(self.pubs)))
         self.ready = ReadyWatch(self, set(p["wait_for"]) | set(p["ack_from"]),
                                 self.pubs.values(), p["stall_timeout"])

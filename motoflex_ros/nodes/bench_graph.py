@@ -11,6 +11,7 @@ from collections import deque
 
 from motoflex_ros.bench.sensor import MAX_NOISE_M, MAX_SEED
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+from motoflex_ros.frames import clamp_frame
 from motoflex_ros.nodes.params import Param
 
 __all__ = ["BENCH_PARAMS", "topic", "frame_id", "campaign_setups", "SampleJoin"]
@@ -27,13 +28,13 @@ BENCH_PARAMS = (
 
 
 def topic(component, leaf):
-    """/bench/<component>/<leaf>."""
-    return f"/bench/{component}/{leaf}"
+    """bench/<component>/<leaf> (relative: under the node's namespace)."""
+    return f"bench/{component}/{leaf}"
 
 
 def frame_id(component):
-    """Frame of a component's bench data: its clamp (REP-103 axes)."""
-    return f"{component}_clamp"
+    """Frame of a component's bench data: its clamp (REP-103 axes; :mod:`motoflex_ros.frames`)."""
+    return clamp_frame(component)
 
 
 def campaign_setups(params):

@@ -2,24 +2,32 @@
 
 For each sample (phase + load of /bench/<c>/), steps the core's ComponentSimulator and
 publishes the true marker positions on /bench/<c>/markers/true (geometry_msgs/PoseArray,
-clamp frame), stamped with the load's time. A load that is not finite, beyond the protocol's
-range or stamped before the previous one stops the node (:mod:`.message_checks`).
+clamp frame), stamped with the load's time. At start it publishes, latched, the bench's frames
+(world -> <c>_clamp -> <c>_loaded_end -> <c>_marker_<i> on /rig/tf_static, recorded as
+/tf_static: :mod:`motoflex_ros.frames`) and the beam model, members and nodes, as
+/bench/<c>/structure (visualization_msgs/MarkerArray, clamp frame). A load that is not
+finite, beyond the protocol's range or stamped before the previous one stops the node
+(:mod:`.message_checks`).
 """
 import sys
 
 import numpy as np
 from geometry_msgs.msg import PoseArray, WrenchStamped
 from std_msgs.msg import String
+from visualization_msgs.msg import MarkerArray
 
+from motoflex_ros.frames import bench_transforms
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.conversions import (
     is_end_marker,
     points_cdr,
     sample_from_phase,
+    structure_markers,
 )
 from motoflex_ros.nodes.message_checks import BenchInputs
-from motoflex_ros.nodes.runtime import RigNode, run_node
+from motoflex_ros.nodes.runtime import RigNode, latched_qos, run_node
+from motoflex_ros.nodes.tf import TfPublisher
 
 __all__ = ["ComponentSimulatorNode", "main"]
 
@@ -43,6 +51,19 @@ class ComponentSimulatorNode(RigNode):
             self.subscribe(String, bench_topic(c, "phase"), join.callback("phase"), raw=True)
             self.subscribe(WrenchStamped, bench_topic(c, "load"), join.callback("load"),
                            raw=True)
+        self._publish_bench()
+
+    def _publish_bench(self):
+        """The benches' static frames and each component's beam model (latched)."""
+        TfPublisher(self).static(bench_transforms([
+            (c, s.component.origin, s.reduced.q0, s.protocol.sensor.markers)
+            for c, s in self.setups.items()]))
+        self.structure_pubs = {}
+        for c, s in self.setups.items():
+            pub = self.create_publisher(MarkerArray, bench_topic(c, "structure"), latched_qos(1))
+            pub.publish(structure_markers(frame_id(c), c, s.component.node_xyz,
+                                          s.component.elements))
+            self.structure_pubs[c] = pub
 
     def _handler(self, component):
         from motoflex_ros.bench.sensor import marker_positions

@@ -26,7 +26,9 @@ __all__ = ["time_msg", "time_ns", "clock_msg", "seconds_to_ns", "clock_ns_from_c
            "pose_msg", "identification_statuses", "results_from_statuses", "quaternion_xyzw",
            "mode_statuses", "joint_state_msg", "poses_msg", "axis_marker", "points_cdr",
            "points_from_cdr", "wrench_cdr", "wrench_from_cdr", "phase_cdr", "phase_text",
-           "pose_cdr", "is_end_marker"]
+           "pose_cdr", "is_end_marker", "transform_msg", "structure_markers", "qos_dict",
+           "series_msg", "IDENTIFIED_MODELS", "IDENTIFIED_UNITS", "identified_series",
+           "mode_series"]
 
 NS_PER_S = 1_000_000_000
 
@@ -237,6 +239,46 @@ def mode_statuses(speeds_mps, modes):
     return statuses
 
 
+def series_msg(values, label):
+    """std_msgs/Float64MultiArray of ``values`` (NaN where None) along one dimension named
+    ``label`` (what the elements are, with units): a plot panel draws it against its index or
+    against another such array (Foxglove: x axis 'path')."""
+    from std_msgs.msg import Float64MultiArray, MultiArrayDimension
+    data = [math.nan if v is None else float(v) for v in values]
+    msg = Float64MultiArray(data=data)
+    msg.layout.dim = [MultiArrayDimension(label=label, size=len(data), stride=len(data))]
+    return msg
+
+
+IDENTIFIED_MODELS = ("static", "torsion", "bending")
+IDENTIFIED_UNITS = {"k": "N m/rad", "l": "m", "beta": "rad"}
+
+
+def identified_series(result_dict):
+    """{quantity: Float64MultiArray} of a component's result dict: k [N m/rad], l [m] and
+    beta [rad] of the static, torsion and bending models, in that order."""
+    return {q: series_msg([result_dict.get(m, {}).get(q) for m in IDENTIFIED_MODELS],
+                          f"{q} [{unit}] of the models {', '.join(IDENTIFIED_MODELS)}")
+            for q, unit in IDENTIFIED_UNITS.items()}
+
+
+def mode_series(speeds_mps, modes):
+    """{name: Float64MultiArray}: 'speed_kmh' and per tracked mode '<mode>/frequency_hz' and
+    '<mode>/real_part' [1/s] over those speeds (NaN where the mode is not found): the same
+    numbers as :func:`mode_statuses`, as arrays a plot panel draws against speed."""
+    out = {"speed_kmh": series_msg([3.6 * v for v in speeds_mps], "speed [km/h]")}
+    for name, values in modes.items():
+        values = np.asarray(values, complex)
+        ok = np.isfinite(values)
+        out[f"{name}/frequency_hz"] = series_msg(
+            [v.imag / (2 * math.pi) if f else None for v, f in zip(values, ok)],
+            f"{name} frequency [Hz] at each speed of /vehicle/modes/speed_kmh")
+        out[f"{name}/real_part"] = series_msg(
+            [v.real if f else None for v, f in zip(values, ok)],
+            f"{name} real part [1/s] at each speed of /vehicle/modes/speed_kmh")
+    return out
+
+
 def joint_state_msg(ns, names, positions, velocities, efforts):
     """sensor_msgs/JointState (efforts always filled: rosbags rejects Fast CDR's trailing
     padding after an empty float64[] at the end of a message)."""
@@ -276,6 +318,55 @@ def axis_marker(marker_id, frame_id, name, point, axis, length=0.5):
     marker.color.r, marker.color.g, marker.color.b, marker.color.a = 0.9, 0.4, 0.1, 1.0
     marker.pose.orientation.w = 1.0
     return marker
+
+
+def transform_msg(ns, transform):
+    """geometry_msgs/TransformStamped of a :class:`motoflex_ros.frames.FrameTransform`
+    (header frame: the parent, child_frame_id: the child; what a tf2_msgs/TFMessage holds)."""
+    from geometry_msgs.msg import TransformStamped
+    msg = TransformStamped(child_frame_id=transform.child)
+    msg.header.stamp = time_msg(ns)
+    msg.header.frame_id = transform.parent
+    t = msg.transform.translation
+    t.x, t.y, t.z = map(float, transform.translation)
+    x, y, z, w = quaternion_xyzw(transform.rotation)
+    r = msg.transform.rotation
+    r.x, r.y, r.z, r.w = float(x), float(y), float(z), float(w)
+    return msg
+
+
+def structure_markers(frame_id, name, node_xyz, elements, radius=0.004):
+    """visualization_msgs/MarkerArray of a beam model: its members (LINE_LIST, one segment per
+    element between its two nodes) and its nodes (SPHERE_LIST), coordinates [m] in
+    ``frame_id``; ``name`` is the markers' namespace."""
+    from geometry_msgs.msg import Point
+    from visualization_msgs.msg import Marker, MarkerArray
+    xyz = np.asarray(node_xyz, float)
+    members = Marker(ns=f"{name}/members", id=0, type=Marker.LINE_LIST, action=Marker.ADD)
+    members.points = [Point(x=float(a), y=float(b), z=float(c))
+                      for a, b, c in xyz[np.asarray(elements, int).reshape(-1)]]
+    members.scale.x = radius
+    members.color.r, members.color.g, members.color.b, members.color.a = 0.6, 0.6, 0.65, 1.0
+    nodes = Marker(ns=f"{name}/nodes", id=1, type=Marker.SPHERE_LIST, action=Marker.ADD)
+    nodes.points = [Point(x=float(a), y=float(b), z=float(c)) for a, b, c in xyz]
+    nodes.scale.x = nodes.scale.y = nodes.scale.z = 3 * radius
+    nodes.color.r, nodes.color.g, nodes.color.b, nodes.color.a = 0.2, 0.4, 0.9, 1.0
+    for marker in (members, nodes):
+        marker.header.frame_id = frame_id
+        marker.pose.orientation.w = 1.0
+    return MarkerArray(markers=[members, nodes])
+
+
+def qos_dict(profile):
+    """The numbers of an rclpy QoSProfile as rosbag2 stores them (enum values, durations
+    [ns]; :func:`motoflex_ros.record.mcap_bag.qos_yaml`)."""
+    return {"history": int(profile.history.value), "depth": int(profile.depth),
+            "reliability": int(profile.reliability.value),
+            "durability": int(profile.durability.value),
+            "deadline": profile.deadline.nanoseconds, "lifespan": profile.lifespan.nanoseconds,
+            "liveliness": int(profile.liveliness.value),
+            "liveliness_lease_duration": profile.liveliness_lease_duration.nanoseconds,
+            "avoid_ros_namespace_conventions": bool(profile.avoid_ros_namespace_conventions)}
 
 
 # --- fast paths: the bench's per-sample messages as CDR bytes ------------------------------

@@ -158,8 +158,10 @@ class GraphWatch:
         if self.endpoints is None or now < self._next:
             return
         self._next = now + self.period_s
+        namespace = self.node.get_namespace().rstrip("/")   # this rig's topics only
+        prefixes = tuple(namespace + p for p in RIG_TOPIC_PREFIXES)
         for topic, _ in self.node.get_topic_names_and_types():
-            if topic.startswith(RIG_TOPIC_PREFIXES):
+            if topic.startswith(prefixes):
                 for info in self.node.get_publishers_info_by_topic(topic):
                     gid, first = _gid(info), self._unknown.get(_gid(info))
                     if first is None or "_NODE_" in first[2]:   # the name may come later

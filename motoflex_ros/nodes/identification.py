@@ -6,7 +6,10 @@ and feeds the core's streaming Identifier, then acknowledges the sample on /rig/
 'settled <test>' when a harmonic test's mean has settled, so the actuator ends that test). At a
 component's end marker it computes l, beta, b, k, c, J, k_t, k_b (core identify_component),
 publishes them on /identification/results (diagnostic_msgs/DiagnosticArray, one status per
-test, KeyValue values) and, once every component is done, writes ``result_file`` atomically.
+test, KeyValue values), the same k [N m/rad], l [m] and beta [rad] of the static, torsion and
+bending models as numbers a plot panel draws on /identification/<c>/{k, l, beta}
+(std_msgs/Float64MultiArray, latched) and, once every component is done, writes
+``result_file`` atomically.
 Loads and measured markers that are not finite, loads beyond the protocol's range and stamps
 that go back stop the node at that message (:mod:`.message_checks`), before the core sees it.
 
@@ -26,13 +29,15 @@ import sys
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, KeyValue
 from geometry_msgs.msg import PoseArray, WrenchStamped
-from std_msgs.msg import String
+from std_msgs.msg import Float64MultiArray, String
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.conversions import (
+    IDENTIFIED_UNITS,
     identification_statuses,
+    identified_series,
     is_end_marker,
     sample_from_phase,
     time_msg,
@@ -46,7 +51,7 @@ from motoflex_ros.results_file import write_results
 
 __all__ = ["IdentificationNode", "main", "RESULTS_TOPIC"]
 
-RESULTS_TOPIC = "/identification/results"
+RESULTS_TOPIC = "identification/results"
 
 
 class IdentificationNode(RigNode):
@@ -129,6 +134,9 @@ class IdentificationNode(RigNode):
         self.results = {}
         self.unacked = {}
         self.ack_pub = self.advertise(KeyValue, ACK_TOPIC)
+        self.series_pubs = {(c, q): self.create_publisher(
+            Float64MultiArray, f"identification/{c}/{q}", latched_qos(1))
+            for c in self.setups for q in IDENTIFIED_UNITS}
         for c in self.setups:
             join = SampleJoin("phase", ("load", "measured"), self._handler(c),
                               needs=lambda h: ("measured",) if is_end_marker(h)
@@ -194,6 +202,8 @@ class IdentificationNode(RigNode):
         msg = DiagnosticArray(status=identification_statuses(component, result.to_dict()))
         msg.header.stamp = time_msg(end_ns)
         self.results_pub.publish(msg)
+        for quantity, series in identified_series(result.to_dict()).items():
+            self.series_pubs[component, quantity].publish(series)
         self.get_logger().info(f"{component}: identified, k = {result.static['k']:.6g} N m/rad")
         if not result.split_identifiable:
             self.get_logger().warning(f"{component}: k_t, k_b not identifiable: "

@@ -55,7 +55,7 @@ class LoadActuatorNode(RigNode):
         p = self.params
         self.setups = campaign_setups(p)
         self.actuators = {c: LoadActuator(s.plan) for c, s in self.setups.items()}
-        self.clock_pub = self.advertise(Clock, "/clock")
+        self.clock_pub = self.advertise(Clock, "clock")
         self.load_pubs = {c: self.advertise(WrenchStamped, topic(c, "load")) for c in self.setups}
         self.phase_pubs = {c: self.advertise(String, topic(c, "phase")) for c in self.setups}
         self.ready = ReadyWatch(self, set(p["wait_for"]) | {p["ack_from"]},

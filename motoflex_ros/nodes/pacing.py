@@ -69,7 +69,8 @@ class ReadyWatch:
         self.seen = set()
         self.waiting = Waiting(node, stall_s)
         self._announced_at = None
-        node.subscribe(String, READY_TOPIC, self._on_ready, qos=latched_qos())
+        self._ready_sub = node.subscribe(String, READY_TOPIC, self._on_ready,
+                                         qos=latched_qos())
 
     def _on_ready(self, msg):
         self.seen.add(msg.data)
@@ -77,7 +78,8 @@ class ReadyWatch:
     def ready(self):
         """True when every expected node has announced itself and our publishers are matched."""
         if not self.names <= self.seen:
-            self.waiting.still(f"{', '.join(self.missing())} to announce on {READY_TOPIC}")
+            self.waiting.still(f"{', '.join(self.missing())} to announce on "
+                               f"{self._ready_sub.topic_name}")
             return False
         if self._announced_at is None:
             self._announced_at = time.monotonic()

@@ -51,11 +51,11 @@ __all__ = ["RigNode", "FastSpinner", "run_node", "print_help", "publish_patientl
            "reliable_qos",
            "latched_qos", "READY_TOPIC", "ACK_TOPIC", "GAP_EXIT_CODE"]
 
-READY_TOPIC = "/rig/ready"
+READY_TOPIC = "rig/ready"   # relative: under the node's namespace
 MATCH_TIMEOUT_S = 5.0  # longest wait for the publishers' side of discovery [s]
 READY_HOLD_S = 0.3  # inputs must have been ready this long before /rig/ready [s]
 GAP_EXIT_CODE = 3  # a node that saw a sequence gap exits with this code
-ACK_TOPIC = "/rig/ack"
+ACK_TOPIC = "rig/ack"
 
 
 def message_class(type_name):
@@ -85,10 +85,11 @@ class RigNode(Node):
 
     NAME = "node"
     ENDS_ITSELF = False   # does the node finish on its own (``finished``)? see run_node
+    SIM_TIME = True       # on /clock (use_sim_time) unless told otherwise; not the clock source
 
     def __init__(self, name=None):
         super().__init__(name or self.NAME)
-        if "use_sim_time" not in self._parameter_overrides:
+        if self.SIM_TIME and "use_sim_time" not in self._parameter_overrides:
             self.set_parameters([Parameter("use_sim_time", value=True)])
         self.params = declare_parameters(self, self.PARAMS)
         self.finished = False

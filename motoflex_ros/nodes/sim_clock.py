@@ -23,6 +23,10 @@ class SimClock(RigNode):
 
     NAME = "sim_clock"
     ENDS_ITSELF = True
+    # The clock source runs on wall time: with use_sim_time its own time source subscribes to
+    # /clock, and "a subscriber of /clock" counted that one, so a sim_clock started alone
+    # published its whole run to itself and ended (seen as a node that exits at start-up).
+    SIM_TIME = False
     PARAMS = (
         Param("dt", 0.001, 1e-6, 1.0, description="step of simulated time [s]"),
         Param("duration", 1.0, 0.0, 1e6, description="simulated time of the run [s]"),
@@ -39,7 +43,7 @@ class SimClock(RigNode):
         self.dt_ns = seconds_to_ns(p["dt"])
         self.steps = int(round(p["duration"] / p["dt"]))
         self.end_ns = self.steps * self.dt_ns
-        self.clock_pub = self.advertise(Clock, "/clock")
+        self.clock_pub = self.advertise(Clock, "clock")
         self.ready = ReadyWatch(self, set(p["wait_for"]) | set(p["ack_from"]), [self.clock_pub],
                                 p["stall_timeout"])
         self.gate = AckGate(self, p["ack_from"], p["window"] * self.dt_ns, p["stall_timeout"])

@@ -6,14 +6,20 @@ run's identification node only, or from ``result_file`` if given), builds the lu
 
 - /vehicle/eigenvalues (diagnostic_msgs/DiagnosticArray): weave, wobble and capsize eigenvalues
   from ``speed_min_kmh`` to ``speed_max_kmh`` (step ``speed_step_kmh``), tracked by mode shape;
+  the same numbers as arrays a plot panel draws against speed (std_msgs/Float64MultiArray,
+  latched): /vehicle/modes/speed_kmh and /vehicle/modes/<mode>/{frequency_hz, real_part};
 - the steer-torque pulse road test at ``road_speed_kmh``: /vehicle/joint_states
   (sensor_msgs/JointState: joint angles, rates, applied torques; every sample of the response,
-  200 Hz) and /vehicle/bodies (geometry_msgs/PoseArray of the bodies with mass, in the world
-  frame ``odom``: x forward along the initial heading, the bike's path and heading integrated
-  by the core over every sample, :func:`motoflex_ros.vehicle.poses.world_poses`) at
-  ``bodies_rate_hz`` (default 50 Hz: enough to watch the weave, and the poses, a nonlinear
-  position solve per body pose sample, cost a quarter), stamped with the road-test time;
-- /vehicle/joint_axes (visualization_msgs/Marker, one per revolute joint, latched).
+  200 Hz) and /vehicle/bodies (geometry_msgs/PoseArray: the pose of each body with mass at its
+  centre of mass, in the world frame ``odom``: x forward along the initial heading, the bike's
+  path and heading integrated by the core over every sample,
+  :func:`motoflex_ros.vehicle.poses.world_poses`) at ``bodies_rate_hz`` (default 50 Hz: enough
+  to watch the weave, and the poses, a nonlinear position solve per body pose sample, cost a
+  quarter), stamped with the road-test time; the same poses as named frames on /rig/tf
+  (odom -> vehicle -> vehicle/<body>, in the PoseArray's order; recorded as /tf,
+  :mod:`motoflex_ros.frames`) and world -> odom on /rig/tf_static;
+- /vehicle/joint_axes (visualization_msgs/Marker, one per revolute joint, latched, in the
+  frame ``vehicle``: the main frame body's reference axes).
 
 Then it exits 0 (the campaign waits for it).
 """
@@ -24,12 +30,21 @@ import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseArray
 from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64MultiArray
 from visualization_msgs.msg import Marker
 
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+from motoflex_ros.frames import (
+    ODOM_FRAME,
+    VEHICLE_FRAME,
+    body_com_poses,
+    road_transform,
+    vehicle_transforms,
+)
 from motoflex_ros.nodes.conversions import (
     axis_marker,
     joint_state_msg,
+    mode_series,
     mode_statuses,
     poses_msg,
     results_from_statuses,
@@ -38,11 +53,12 @@ from motoflex_ros.nodes.conversions import (
 from motoflex_ros.nodes.pacing import Waiting
 from motoflex_ros.nodes.params import Param, ParameterError
 from motoflex_ros.nodes.runtime import RigNode, latched_qos, publish_patiently, run_node
+from motoflex_ros.nodes.tf import TfPublisher
 
 __all__ = ["VehicleSimulatorNode", "main", "body_rows"]
 
-FRAME = "vehicle"
-WORLD_FRAME = "odom"
+FRAME = VEHICLE_FRAME
+WORLD_FRAME = ODOM_FRAME
 
 
 class VehicleSimulatorNode(RigNode):
@@ -82,11 +98,14 @@ class VehicleSimulatorNode(RigNode):
         self.components = {n: load_component(n) for n in p["components"]}
         self.identified = {}
         self.waiting = Waiting(self)
-        self.eig_pub = self.create_publisher(DiagnosticArray, "/vehicle/eigenvalues",
+        self.eig_pub = self.create_publisher(DiagnosticArray, "vehicle/eigenvalues",
                                              latched_qos())
-        self.joints_pub = self.advertise(JointState, "/vehicle/joint_states")
-        self.bodies_pub = self.advertise(PoseArray, "/vehicle/bodies")
-        self.axes_pub = self.create_publisher(Marker, "/vehicle/joint_axes", latched_qos())
+        self.joints_pub = self.advertise(JointState, "vehicle/joint_states")
+        self.bodies_pub = self.advertise(PoseArray, "vehicle/bodies")
+        self.axes_pub = self.create_publisher(Marker, "vehicle/joint_axes", latched_qos())
+        self.tf = TfPublisher(self, dynamic=True)
+        self.series_pubs = []
+        self.tf.static([road_transform()])
         if p["result_file"]:
             try:
                 self.identified = load_results_file(Path(p["result_file"]), p["components"])
@@ -94,7 +113,7 @@ class VehicleSimulatorNode(RigNode):
                 raise ParameterError(f"node '{self.get_name()}': parameter 'result_file': "
                                      f"{exc}") from None
         else:
-            self.subscribe(DiagnosticArray, "/identification/results", self._on_results,
+            self.subscribe(DiagnosticArray, "identification/results", self._on_results,
                            qos=latched_qos(), publishers=("identification",))
 
     def _on_results(self, msg):
@@ -129,12 +148,18 @@ class VehicleSimulatorNode(RigNode):
                            p["speed_step_kmh"]) / 3.6
         sweep = modal_sweep(lin, speeds)
         self.eig_pub.publish(DiagnosticArray(status=mode_statuses(speeds, sweep.modes)))
+        for name, series in mode_series(speeds, sweep.modes).items():
+            pub = self.create_publisher(Float64MultiArray, f"vehicle/modes/{name}",
+                                        latched_qos(1))
+            pub.publish(series)
+            self.series_pubs.append(pub)
         for k, joint in enumerate(j for j in model.joints if j.kind == "revolute"):
             self.axes_pub.publish(axis_marker(k, FRAME, joint.name, joint.point, joint.axis))
         self._road_test(lin, model, p["road_speed_kmh"] / 3.6, p["bodies_rate_hz"])
         self.get_logger().info(f"vehicle: {len(speeds)} speeds, road test published")
 
     def _road_test(self, lin, model, speed, bodies_rate_hz):
+        from motoflex_ros.vehicle.kinematics import BASE_NAMES
         from motoflex_ros.vehicle.poses import world_poses
         from motoflex_ros.vehicle.response import steer_pulse_response
         names = tuple(lin.state_names)
@@ -146,7 +171,10 @@ class VehicleSimulatorNode(RigNode):
         coords = [c.name for c in tree.coordinates]
         joints = [n for n in names if n in coords and f"{n}_rate" in names]
         steer = model.roles.get("steer", "steer")
-        bodies = [tree.body_frames[b.name] for b in model.bodies if b.mass > 0]
+        bodies = [b for b in model.bodies if b.mass > 0]
+        frames = [tree.body_frames[b.name] for b in bodies]
+        coms = [b.com for b in bodies]
+        base = len(BASE_NAMES)   # the frame the base chain moves: the main frame body's
         for k, (row, t) in enumerate(zip(pulse.outputs, pulse.time)):
             values = dict(zip(names, row))
             ns = seconds_to_ns(t)
@@ -157,8 +185,13 @@ class VehicleSimulatorNode(RigNode):
                 efforts))
             i = pose_of_row.get(k)
             if i is not None:
-                publish_patiently(self.bodies_pub, poses_msg(
-                    ns, WORLD_FRAME, poses.rotations[i, bodies], poses.translations[i, bodies]))
+                rotations, positions = body_com_poses(poses.rotations[i, frames],
+                                                      poses.translations[i, frames], coms)
+                publish_patiently(self.bodies_pub, poses_msg(ns, WORLD_FRAME, rotations,
+                                                             positions))
+                self.tf.send(ns, vehicle_transforms(
+                    poses.rotations[i, base], poses.translations[i, base],
+                    [b.name for b in bodies], rotations, positions))
 
 
 def body_rows(time, rate_hz):

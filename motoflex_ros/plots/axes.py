@@ -1,10 +1,13 @@
 """Figs. 5-7 of the paper: a component in the x-z plane with its deformation axes.
 
-The structure (grey), the clamp points (light blue) and the loaded end q0 (orange); the static
-deformation axis (blue), the torsion and bending axes from the harmonic tests at the first
-torsion and bending eigenfrequencies (green), and the sweep axes from 1 Hz to 5 Hz below the
-first eigenfrequency (thin black). Each axis passes through its joint at distance l from O
-along O-q0 and makes the angle beta with O-q0 (eqs. 5-6).
+One figure code for ``motoflex identify --plot`` and the report (:func:`axes_figure`). The
+structure (grey), the clamp points (light blue) and the loaded end q0 (orange); the static
+deformation axis (blue, solid), the torsion axis (green, solid) and the bending axis (red,
+dashed) from the harmonic tests at the first torsion and bending eigenfrequencies, and the axes
+of the frequency sweep (thin, shaded from light at its first to dark at its last frequency, on
+the colour bar). Each axis passes through its joint at distance l from O along O-q0 and makes
+the angle beta with O-q0 (eqs. 5-6); the legend gives l [m] and beta [deg] of each (the
+JSON holds beta in rad).
 """
 import matplotlib
 
@@ -14,7 +17,14 @@ import numpy as np  # noqa: E402
 
 from motoflex_ros.plots.components import write_png_atomic  # noqa: E402
 
-__all__ = ["plot_component_axes", "plot_measured_axes", "axis_segment"]
+__all__ = ["axes_figure", "plot_component_axes", "plot_measured_axes", "axis_segment",
+           "AXIS_STYLES", "SWEEP_CMAP"]
+
+AXIS_STYLES = {"static": {"color": "#1f77b4", "ls": "-", "lw": 2.5},
+               "torsion": {"color": "#2ca02c", "ls": "-", "lw": 2.0},
+               "bending": {"color": "#d62728", "ls": "--", "lw": 2.0}}
+"""Colour and line style of each identified axis: no two alike (issue 16, point 7)."""
+SWEEP_CMAP = "Greys"
 
 
 def axis_segment(l, beta, q0, half_length):
@@ -25,44 +35,55 @@ def axis_segment(l, beta, q0, half_length):
     return np.array([joint - half_length * direction, joint + half_length * direction])
 
 
-
 def _structure(ax, component):
     xyz = component.node_xyz
-    for i, j in component.elements:
-        ax.plot(xyz[[i, j], 0], xyz[[i, j], 2], color="0.6", lw=2, zorder=1)
+    for k, (i, j) in enumerate(component.elements):
+        ax.plot(xyz[[i, j], 0], xyz[[i, j], 2], color="0.6", lw=2, zorder=1,
+                label="structure" if k == 0 else None)
     clamps = component.clamp_xyz
     ax.plot(clamps[:, 0], clamps[:, 2], "o", color="#5bc0eb", ms=9, zorder=4, label="clamp")
 
 
-def _axes(ax, identification, q0, half):
-    for i, point in enumerate(identification.sweep):
+def _geometry(m):
+    return f"l = {m['l']:.3f} m, \u03b2 = {np.degrees(m['beta']):.1f}\u00b0"
+
+
+def _sweep(fig, ax, sweep, q0, half):
+    """The sweep's axes shaded by test frequency, with a colour bar [Hz]."""
+    if not sweep:
+        return
+    freqs = np.array([s["f_hz"] for s in sweep], float)
+    norm = matplotlib.colors.Normalize(freqs.min() - 0.3 * np.ptp(freqs) - 1e-9, freqs.max())
+    cmap = plt.get_cmap(SWEEP_CMAP)
+    for i, point in enumerate(sweep):
         seg = axis_segment(point["l"], point["beta"], q0, half)
-        ax.plot(seg[:, 0], seg[:, 1], color="k", lw=0.6, alpha=0.7,
-                label="sweep" if i == 0 else None, zorder=2)
-    for name, style in (("torsion", "-"), ("bending", "--")):
-        m = getattr(identification, name)
+        ax.plot(seg[:, 0], seg[:, 1], color=cmap(norm(freqs[i])), lw=0.8, zorder=2,
+                label=(f"sweep axes: {len(sweep)} harmonic tests, {freqs.min():.0f}-"
+                       f"{freqs.max():.0f} Hz") if i == len(sweep) - 1 else None)
+    bar = fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax,
+                       shrink=0.8, pad=0.02)
+    bar.set_label("sweep test frequency [Hz]")
+    bar.ax.set_ylim(freqs.min(), freqs.max())
+
+
+def _axes(fig, ax, identified, q0, half):
+    _sweep(fig, ax, identified.get("sweep", []), q0, half)
+    for name in ("torsion", "bending", "static"):
+        m = identified[name]
         if m is None:   # a measured record without that test
             continue
         seg = axis_segment(m["l"], m["beta"], q0, half)
-        ax.plot(seg[:, 0], seg[:, 1], style, color="#2ca02c", lw=2,
-                label=f"{name} ({m['f_hz']:.0f} Hz)", zorder=3)
-    s = identification.static
-    seg = axis_segment(s["l"], s["beta"], q0, half)
-    ax.plot(seg[:, 0], seg[:, 1], color="#1f77b4", lw=2.5, label="static", zorder=3)
+        at = f" at {m['f_hz']:.1f} Hz" if "f_hz" in m else ""
+        ax.plot(seg[:, 0], seg[:, 1], zorder=3, label=f"{name} axis{at}: {_geometry(m)}",
+                **AXIS_STYLES[name])
 
 
-def plot_component_axes(setup, identification, path):
-    """Write the PNG of one component's deformation axes (Figs. 5-7) to ``path``."""
-    q0 = np.asarray(setup.reduced.q0, float)
-    fig, ax = plt.subplots(figsize=(7.5, 6.0))
-    if setup.component is not None:
-        _structure(ax, setup.component)
-        xyz = setup.component.node_xyz
-    else:
-        xyz = np.array([np.zeros(3), q0])
+def _limits(xyz, identified, q0):
+    """(lower, upper) corners [m] of the view: structure, joints near it and the axes' feet."""
     length = float(np.linalg.norm(q0))
     points = [xyz[:, [0, 2]]]
-    for m in (identification.static, identification.torsion, identification.bending):
+    for name in ("static", "torsion", "bending"):
+        m = identified[name]
         if m is None:
             continue
         behind, ahead = axis_segment(m["l"], m["beta"], q0, 1.0)
@@ -72,27 +93,49 @@ def plot_component_axes(setup, identification, path):
         if abs(m["l"]) < 2 * length:
             points.append(joint[None, :])
     points = np.vstack(points)
-    lo, hi = points.min(axis=0), points.max(axis=0)
-    half = 3.0 * max(hi[0] - lo[0], hi[1] - lo[1], length)
-    _axes(ax, identification, q0, half)
+    return points.min(axis=0), points.max(axis=0)
+
+
+def axes_figure(component, identified):
+    """The figure of one component's deformation axes (Figs. 5-7).
+
+    ``component``: the structures Component (node_xyz, elements, clamp_xyz, q0 [m], name);
+    ``identified``: its identification in the JSON shape of ``motoflex identify`` (static,
+    torsion, bending with l [m], beta [rad], f_hz [Hz]; sweep). Returns a matplotlib Figure.
+    """
+    q0 = np.asarray(component.q0, float)
+    fig, ax = plt.subplots(figsize=(8.0, 6.5), layout="constrained")
+    _structure(ax, component)
+    lo, hi = _limits(component.node_xyz, identified, q0)
+    span = max(hi[0] - lo[0], hi[1] - lo[1])
+    _axes(fig, ax, identified, q0, 3.0 * max(span, float(np.linalg.norm(q0))))
     ax.plot(q0[0], q0[2], "o", color="#ff7f0e", ms=9, zorder=5, label="load point q0")
-    margin = 0.15 * max(hi[0] - lo[0], hi[1] - lo[1])
-    ax.set_xlim(lo[0] - margin, hi[0] + margin)
-    ax.set_ylim(lo[1] - margin, hi[1] + margin)
+    ax.set_xlim(lo[0] - 0.15 * span, hi[0] + 0.15 * span)
+    ax.set_ylim(lo[1] - 0.15 * span, hi[1] + 0.15 * span)
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("z [m]")
-    ax.set_title(f"{setup.name}: deformation axes (static, torsion, bending, sweep)")
-    ax.legend(loc="best", fontsize=8)
+    ax.set_title(f"{component.name}: deformation axes in the x-z plane")
+    fig.legend(loc="outside lower center", ncols=2, fontsize=8)
     ax.grid(alpha=0.3)
-    write_png_atomic(fig, path)
-    plt.close(fig)
+    return fig
+
+
+def plot_component_axes(component, identified, path):
+    """Write the PNG of :func:`axes_figure` to ``path``; returns ``path``."""
+    fig = axes_figure(component, identified)
+    try:
+        write_png_atomic(fig, path)
+    finally:
+        plt.close(fig)
     return path
 
 
-def plot_measured_axes(name, q0, identification, path):
-    """The axes plot of an identification of measurements (no structure to draw: the clamp
-    at O and the loaded end q0 [m] only)."""
+def plot_measured_axes(name, q0, identified, path):
+    """The axes plot of an identification of measurements (no structure to draw: the line
+    from the clamp at O to the loaded end q0 [m])."""
     from types import SimpleNamespace
-    bench = SimpleNamespace(name=name, reduced=SimpleNamespace(q0=q0), component=None)
-    return plot_component_axes(bench, identification, path)
+    q0 = np.asarray(q0, float)
+    bench = SimpleNamespace(name=name, q0=q0, node_xyz=np.array([np.zeros(3), q0]),
+                            elements=[(0, 1)], clamp_xyz=np.zeros((1, 3)))
+    return plot_component_axes(bench, identified, path)

@@ -6,19 +6,26 @@ one MCAP file (profile ``ros2``; schemas as ``ros2msg`` text; messages as CDR by
 it only moves serialized bytes. The schema text and the RIHS01 type hash of the standard ROS 2
 Jazzy types come from the rosbags type store.
 
-The MCAP file is written in place (so that a killed writer leaves something :func:`repair` can
-salvage up to the last complete chunk); ``metadata.yaml`` is written atomically on close.
+Each topic carries the QoS profiles its publishers offered (channel metadata and
+metadata.yaml, as rosbag2 writes them), so ``ros2 bag play`` offers them again: a latched
+(transient-local) topic stays latched in a replay.
+
+The MCAP file is written in place with mcap's public Writer (chunks of ``chunk_size``, so that a
+killed writer leaves something :func:`repair` can salvage up to the last complete chunk; file
+name ``<bag>_0.mcap`` as rosbag2 names it; per-topic sequence numbers); ``metadata.yaml`` is
+written atomically on close. (rosbags' rosbag2 Writer writes the same format at about the same
+speed, measured in benchmarks/bench_recorder.py, but with a fixed 1 MiB uncompressed chunk, a
+file name without ``_0``, no sequence numbers and no type hash in the channels.)
 """
 import functools
 import io
-import struct
 from dataclasses import dataclass
 from pathlib import Path
 
 import yaml
 from mcap.exceptions import McapError
 from mcap.reader import make_reader
-from mcap.records import Channel, Message, MessageIndex, Schema
+from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType, Writer
 
@@ -27,19 +34,33 @@ from motoflex_ros.files import atomic_write_bytes
 
 __all__ = ["BagError", "TopicInfo", "BagInfo", "BagMessage", "BagWriter", "message_definition",
            "type_hash", "bag_info", "read_messages", "repair", "find_mcap", "METADATA_FILE",
-           "check_new_bag_dir"]
+           "check_new_bag_dir", "qos_yaml", "RELIABLE_KEEP_ALL", "INFINITE_NS"]
 
 METADATA_FILE = "metadata.yaml"
 BAG_FORMAT_VERSION = 9
 LIBRARY = "motoflex_ros.record.mcap_bag"
 DEFAULT_CHUNK_SIZE = 256 * 1024
-# QoS rosbag2 stores for every topic we record: reliable, keep all, volatile
-_QOS_YAML = ("- history: 2\n  depth: 0\n  reliability: 1\n  durability: 2\n"
-             "  deadline:\n    sec: 2147483647\n    nsec: 4294967295\n"
-             "  lifespan:\n    sec: 2147483647\n    nsec: 4294967295\n"
-             "  liveliness: 1\n  liveliness_lease_duration:\n"
-             "    sec: 2147483647\n    nsec: 4294967295\n"
-             "  avoid_ros_namespace_conventions: false\n")
+INFINITE_NS = 2**63 - 1   # rmw's infinite duration [ns] (deadline, lifespan, lease)
+# rosbag2's enum values, which are rmw's: history 1 keep last, 2 keep all; reliability 1
+# reliable, 2 best effort; durability 1 transient local, 2 volatile; liveliness 1 automatic
+RELIABLE_KEEP_ALL = {"history": 2, "depth": 0, "reliability": 1, "durability": 2,
+                     "deadline": INFINITE_NS, "lifespan": INFINITE_NS, "liveliness": 1,
+                     "liveliness_lease_duration": INFINITE_NS,
+                     "avoid_ros_namespace_conventions": False}
+
+
+def qos_yaml(profiles):
+    """rosbag2's ``offered_qos_profiles`` text of QoS profiles: dicts with the keys of
+    RELIABLE_KEEP_ALL (enum values as integers, durations in [ns], split into sec and nsec)."""
+    def entry(profile):
+        out = {}
+        for key, value in profile.items():
+            if key in ("deadline", "lifespan", "liveliness_lease_duration"):
+                sec, nsec = divmod(int(value), 1_000_000_000)
+                value = {"sec": sec, "nsec": nsec}
+            out[key] = value
+        return out
+    return yaml.safe_dump([entry(p) for p in profiles], sort_keys=False)
 
 
 class BagError(MotoflexError):
@@ -48,11 +69,13 @@ class BagError(MotoflexError):
 
 @dataclass(frozen=True)
 class TopicInfo:
-    """One topic of a bag: name, ROS type ('pkg/msg/Type') and number of messages."""
+    """One topic of a bag: name, ROS type ('pkg/msg/Type'), number of messages and the QoS
+    its publishers offered (rosbag2's ``offered_qos_profiles`` text)."""
 
     name: str
     type: str
     count: int
+    qos: str = ""
 
 
 @dataclass(frozen=True)
@@ -103,42 +126,6 @@ def type_hash(type_name):
     return _typestore().hash_rihs01(type_name)
 
 
-_MESSAGE_HEAD = struct.Struct("<BQHIQQ")  # opcode, record length, channel, sequence, 2 times
-_MESSAGE_OPCODE = 0x05
-
-
-class _FastWriter(Writer):
-    """mcap Writer with a one-pack fast path for messages (the recorder's hot loop).
-
-    Does the bookkeeping of ``Writer.add_message`` (statistics, chunk message index) and writes
-    the Message record with one ``struct.pack``; the round-trip tests read its files back with
-    mcap, mcap_ros2 and rosbags.
-    """
-
-    def add_raw(self, channel_id, log_time, data, sequence):
-        """Append one message record (publish time = log time) to the current chunk."""
-        stats = self._Writer__statistics
-        if stats.message_count == 0 or log_time < stats.message_start_time:
-            stats.message_start_time = log_time
-        stats.message_end_time = max(log_time, stats.message_end_time)
-        stats.channel_message_counts[channel_id] += 1
-        stats.message_count += 1
-        chunk = self._Writer__chunk_builder
-        if chunk.num_messages == 0 or log_time < chunk.message_start_time:
-            chunk.message_start_time = log_time
-        chunk.message_end_time = max(chunk.message_end_time, log_time)
-        index = chunk.message_indices.get(channel_id)
-        if index is None:
-            index = chunk.message_indices[channel_id] = MessageIndex(channel_id, [])
-        buffer = chunk.record_writer._buffer
-        index.records.append((log_time, buffer.tell()))
-        chunk.num_messages += 1
-        buffer.write(_MESSAGE_HEAD.pack(_MESSAGE_OPCODE, 22 + len(data), channel_id, sequence,
-                                        log_time, log_time))
-        buffer.write(data)
-        self._Writer__maybe_finalize_chunk()
-
-
 def check_new_bag_dir(path):
     """``path`` (a Path) if it does not exist or is an empty directory, else BagError."""
     path = Path(path)
@@ -161,19 +148,21 @@ class BagWriter:
         self._stream = open(self.mcap_file, "wb")  # noqa: SIM115 (closed in close())
         kinds = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4,
                  "none": CompressionType.NONE}
-        self._writer = _FastWriter(self._stream, chunk_size=chunk_size,
-                                   compression=kinds[compression])
+        self._writer = Writer(self._stream, chunk_size=chunk_size,
+                              compression=kinds[compression])
         self._writer.start(profile="ros2", library=LIBRARY)
         self._writer.add_metadata("rosbag2", {"ROS_DISTRO": "jazzy"})
         self._channels = {}
         self._types = {}
+        self._qos = {}
         self._counts = {}
         self._first = None
         self._last = None
         self.closed = False
 
-    def add_topic(self, topic, type_name):
-        """Register ``topic`` of ROS type ``type_name``; returns the channel id."""
+    def add_topic(self, topic, type_name, qos_profiles=(RELIABLE_KEEP_ALL,)):
+        """Register ``topic`` of ROS type ``type_name`` with the QoS profiles its publishers
+        offer (dicts, :func:`qos_yaml`); returns the channel id."""
         if topic in self._channels:
             if self._types[topic] != type_name:
                 raise BagError(f"topic {topic} already recorded as {self._types[topic]}, "
@@ -181,18 +170,21 @@ class BagWriter:
             return self._channels[topic]
         schema_id = self._writer.register_schema(
             name=type_name, encoding="ros2msg", data=message_definition(type_name).encode())
+        qos = qos_yaml(qos_profiles)
         channel_id = self._writer.register_channel(
             topic=topic, message_encoding="cdr", schema_id=schema_id,
-            metadata={"offered_qos_profiles": _QOS_YAML, "topic_type_hash": type_hash(type_name)})
+            metadata={"offered_qos_profiles": qos, "topic_type_hash": type_hash(type_name)})
         self._channels[topic] = channel_id
         self._types[topic] = type_name
+        self._qos[topic] = qos
         self._counts[topic] = 0
         return channel_id
 
     def write(self, topic, log_time_ns, data):
         """Append one message (CDR ``bytes``) of a registered ``topic`` at ``log_time_ns``."""
         sequence = self._counts[topic]
-        self._writer.add_raw(self._channels[topic], log_time_ns, data, sequence)
+        self._writer.add_message(self._channels[topic], log_time_ns, data, log_time_ns,
+                                 sequence)
         self._counts[topic] = sequence + 1
         if self._first is None or log_time_ns < self._first:
             self._first = log_time_ns
@@ -211,7 +203,8 @@ class BagWriter:
         self.closed = True
         self._writer.finish()
         self._stream.close()
-        topics = tuple(TopicInfo(t, self._types[t], self._counts[t]) for t in self._channels)
+        topics = tuple(TopicInfo(t, self._types[t], self._counts[t], self._qos[t])
+                       for t in self._channels)
         start = self._first or 0
         write_metadata(self.path, self.mcap_file, topics, start, (self._last or 0) - start)
 
@@ -225,7 +218,8 @@ class BagWriter:
 def _metadata_dict(mcap_file, topics, start_ns, duration_ns):
     per_topic = [{"topic_metadata": {"name": t.name, "type": t.type,
                                      "serialization_format": "cdr",
-                                     "offered_qos_profiles": _QOS_YAML,
+                                     "offered_qos_profiles": t.qos or qos_yaml(
+                                         [RELIABLE_KEEP_ALL]),
                                      "type_description_hash": type_hash(t.type)},
                   "message_count": t.count} for t in topics]
     total = sum(t.count for t in topics)
@@ -283,7 +277,8 @@ def bag_info(path):
     summary = _open_summary(mcap_file)
     stats = summary.statistics
     counts = stats.channel_message_counts
-    topics = tuple(TopicInfo(ch.topic, summary.schemas[ch.schema_id].name, counts.get(cid, 0))
+    topics = tuple(TopicInfo(ch.topic, summary.schemas[ch.schema_id].name, counts.get(cid, 0),
+                             ch.metadata.get("offered_qos_profiles", ""))
                    for cid, ch in sorted(summary.channels.items()))
     start = stats.message_start_time if stats.message_count else 0
     end = stats.message_end_time if stats.message_count else 0
@@ -336,7 +331,8 @@ def repair(path, chunk_size=DEFAULT_CHUNK_SIZE):
     counts = {}
     for message in messages:
         counts[message.channel_id] = counts.get(message.channel_id, 0) + 1
-    topics = tuple(TopicInfo(ch.topic, schemas[ch.schema_id].name, counts.get(cid, 0))
+    topics = tuple(TopicInfo(ch.topic, schemas[ch.schema_id].name, counts.get(cid, 0),
+                             ch.metadata.get("offered_qos_profiles", ""))
                    for cid, ch in sorted(channels.items()))
     times = [m.log_time for m in messages] or [0]
     write_metadata(mcap_file.parent, mcap_file, topics, min(times), max(times) - min(times))

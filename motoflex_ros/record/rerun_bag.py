@@ -7,7 +7,7 @@ rosbags type store (no rclpy needed), then logs with :mod:`.rerun_log` and
 - /bench/<c>/load (geometry_msgs/WrenchStamped) with /bench/<c>/phase (std_msgs/String): load
   arrow and force series; with the shipped component model <c> also the beam model deformed by
   the time response of the clamped reduced model to the recorded load history, the component
-  simulator's own (:mod:`.rerun_bench_replay`).
+  simulator's own (:mod:`motoflex_ros.bench.replay`).
 - /bench/<c>/pose (geometry_msgs/PoseStamped): loaded-end displacement series.
 - /bench/<c>/markers/true and /measured (geometry_msgs/PoseArray): marker points over time.
 - /identification/results (diagnostic_msgs/DiagnosticArray, one status per component and
@@ -38,7 +38,8 @@ import numpy as np
 import rerun as rr
 from tqdm import tqdm
 
-from motoflex_ros.errors import MotoflexError
+from motoflex_ros.bench.replay import recorded_samples, replayed_displacements, shipped_model
+from motoflex_ros.frames import BENCH_SPACING_M
 from motoflex_ros.record import rerun_log as rl
 from motoflex_ros.record.mcap_bag import bag_info, read_messages
 from motoflex_ros.record.rerun_bag_vehicle import (
@@ -49,15 +50,13 @@ from motoflex_ros.record.rerun_bag_vehicle import (
     times_s,
     vec,
 )
-from motoflex_ros.record.rerun_bench_replay import recorded_samples, replayed_displacements
 from motoflex_ros.record.rerun_blueprint import default_blueprint
 
-__all__ = ["convert_bag", "rrd_path_of", "BENCH_TOPIC", "decode"]
+__all__ = ["convert_bag", "rrd_path_of", "run_identification", "BENCH_TOPIC", "decode"]
 
 BENCH_TOPIC = re.compile(r"^/bench/(?P<component>[^/]+)/(?P<what>load|phase|pose|markers/true|"
                          r"markers/measured)$")
 MAX_MARKER_FRAMES = 400
-BENCH_SPACING_M = 1.0     # lateral spacing of the components on the bench [m]
 
 
 @functools.cache
@@ -88,12 +87,14 @@ def _stamp_ns(msg):
 def _collect(bag_dir):
     """Messages grouped by topic: {topic: [(t_ns, msg), ...]} in recording order.
 
-    Messages without a header carry no simulated time: the bench's phase labels are kept with
-    t_ns None (they pair with the loads by order), others (/clock) are left out undecoded.
+    Messages without a header carry no simulated time: the bench's phase labels (they pair
+    with the loads by order) and tf (it names the bodies) are kept with t_ns None, others
+    (/clock) are left out undecoded.
     """
     grouped = defaultdict(list)
     for message in read_messages(bag_dir):
-        unstamped = message.type == "std_msgs/msg/String" and message.topic.endswith("/phase")
+        unstamped = (message.type == "std_msgs/msg/String" and message.topic.endswith("/phase")
+                     or message.type == "tf2_msgs/msg/TFMessage")
         if message.type == "rosgraph_msgs/msg/Clock":
             continue
         msg = decode(message)
@@ -101,17 +102,6 @@ def _collect(bag_dir):
         if stamp is not None or unstamped:
             grouped[message.topic].append((stamp, msg))
     return grouped
-
-
-@functools.cache
-def _model(component):
-    """(Component, ReducedComponent) of a shipped component name, or None."""
-    try:
-        from motoflex_ros.structures import load_component
-        comp = load_component(component)
-        return comp, comp.clamped_reduced()
-    except (MotoflexError, OSError, KeyError, ValueError):
-        return None
 
 
 def _log_bench_load(rec, component, topics, t0, model, bench_offset):
@@ -181,7 +171,7 @@ def _log_identification(rec, samples, t0, known, draw_axes):
             values = {kv.key: _number(kv.value) for kv in status.values}
             values = {k: v for k, v in values.items() if v is not None}
             rl.log_identification(rec, component, test, values, (t_ns - t0) * 1e-9)
-            model = _model(component) if component in known and draw_axes else None
+            model = shipped_model(component) if component in known and draw_axes else None
             if model and test in rl.AXIS_COLORS and {"l", "beta"} <= values.keys():
                 rl.log_axis(rec, component, test, values["l"], values["beta"], model[0].q0)
 
@@ -197,7 +187,7 @@ def _log_identified_axes(rec, identify, sim_time_s, log_values):
     """Axes (static, torsion, bending, sweep) and (``log_values``) values of identify-format
     results."""
     for component, result in identify.items():
-        model = _model(component)
+        model = shipped_model(component)
         if not isinstance(result, dict) or model is None:
             continue
         q0 = model[0].q0
@@ -243,7 +233,7 @@ def _log_bench_topics(rec, bench, t0):
     converted = []
     for k, (component, topics) in enumerate(sorted(bench.items())):
         if "load" in topics:
-            _log_bench_load(rec, component, topics, t0, _model(component),
+            _log_bench_load(rec, component, topics, t0, shipped_model(component),
                             (0.0, BENCH_SPACING_M * k, 0.0))
         for kind in ("true", "measured"):
             if f"markers/{kind}" in topics:
@@ -252,13 +242,19 @@ def _log_bench_topics(rec, bench, t0):
     return converted
 
 
-def convert_bag(bag_dir, rrd_path=None, vehicle="touring", progress=False):
+def run_identification(bag_dir):
+    """The run folder's identification results (identification.json or identify.json), or
+    None."""
+    return _read_json(Path(bag_dir), "identification.json", "identify.json")
+
+
+def convert_bag(bag_dir, rrd_path=None, motorcycle=None, progress=False):
     """Write the rerun recording of a recorded run; returns (rrd path, what was converted).
 
-    ``vehicle`` (a shipped vehicle name, or None to skip) adds the motorcycle from the vehicle
-    engine: bodies, joint axes, weave and wobble animated, and the steer-pulse road test when
-    the bag has none. ``progress`` shows a tqdm bar (stderr) over the steps. Raises
-    :class:`~.mcap_bag.BagError` when ``bag_dir`` is not a bag.
+    ``motorcycle`` (None to skip): (MotorcycleMotion, description) of the motorcycle to draw
+    beside the bag's topics (bodies, joint axes, weave and wobble animated, and the steer-pulse
+    road test when the bag has none), computed by the caller. ``progress`` shows a tqdm bar
+    (stderr) over the steps. Raises :class:`~.mcap_bag.BagError` when ``bag_dir`` is not a bag.
     """
     bag_dir = Path(bag_dir)
     info = bag_info(bag_dir)
@@ -268,17 +264,18 @@ def convert_bag(bag_dir, rrd_path=None, vehicle="touring", progress=False):
     t0 = min((t for samples in grouped.values() for t, _ in samples if t is not None),
              default=0)
     bench = _bench_topics(grouped)
-    identify = _read_json(bag_dir, "identification.json", "identify.json")
+    identify = run_identification(bag_dir)
     with bar:
         with rl.RunRecording(rrd_path or rrd_path_of(bag_dir), bag_dir.name,
                              default_blueprint) as run:
-            converted = _log_all(run.stream, bar, grouped, bench, t0, info, identify, vehicle)
+            converted = _log_all(run.stream, bar, grouped, bench, t0, info, identify,
+                                 motorcycle)
             _step(bar, "writing")
         bar.update(1)
     return run.path, sorted(converted)
 
 
-def _log_all(rec, bar, grouped, bench, t0, info, identify, vehicle):
+def _log_all(rec, bar, grouped, bench, t0, info, identify, motorcycle):
     """Log bench, identification, vehicle topics, the run's result files and the model."""
     _step(bar, "bench")
     converted = _log_bench_topics(rec, bench, t0)
@@ -293,8 +290,8 @@ def _log_all(rec, bar, grouped, bench, t0, info, identify, vehicle):
                                 log_values="/identification/results" not in grouped,
                                 with_eig=EIG_TOPIC not in vehicle_topics)
     _step(bar, "vehicle model")
-    if vehicle:
-        converted += log_vehicle_model(rec, vehicle, identify,
+    if motorcycle is not None:
+        converted += log_vehicle_model(rec, motorcycle,
                                         road_test="/vehicle/bodies" not in grouped,
                                         joint_axes=bag_axes == 0)
     return converted

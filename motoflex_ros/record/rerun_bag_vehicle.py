@@ -53,13 +53,26 @@ def _log_road_test(rec, grouped, t0):
                             [list(m.position) for _, m in joints])
     bodies = grouped.get("/vehicle/bodies", [])
     if bodies:
-        count = len(bodies[0][1].poses)
-        names = [f"body{i}" for i in range(count)]
+        names = body_names(grouped, len(bodies[0][1].poses))
         rv.log_body_shapes(rec, "/vehicle/road_test",
                            [rv.BodyShape(n, "box", (0.15, 0.1, 0.1)) for n in names])
         rv.log_body_poses(rec, "/vehicle/road_test", names, times_s(bodies, t0),
                           [[vec(p.position) for p in m.poses] for _, m in bodies],
                           [[quat(p.orientation) for p in m.poses] for _, m in bodies])
+
+
+def body_names(grouped, count):
+    """Names of the ``count`` poses of /vehicle/bodies: the child frames vehicle/<body> the
+    bag's /tf gives them (the same order: :func:`motoflex_ros.frames.vehicle_transforms`), or
+    body0, body1, ... for a bag without them."""
+    from motoflex_ros.frames import VEHICLE_FRAME
+    prefix = VEHICLE_FRAME + "/"
+    for _, message in grouped.get("/tf", []):
+        children = [t.child_frame_id for t in message.transforms
+                    if t.header.frame_id == VEHICLE_FRAME and t.child_frame_id.startswith(prefix)]
+        if len(children) == count:
+            return [c[len(prefix):] for c in children]
+    return [f"body{i}" for i in range(count)]
 
 
 def marker_axis(marker):
@@ -179,12 +192,15 @@ def log_vehicle_topics(rec, grouped, info, t0):
     return converted, axes
 
 
-def log_vehicle_model(rec, vehicle, identify, road_test, joint_axes):
-    """The motorcycle from the vehicle engine (:mod:`.rerun_motorcycle`): the lumped 'static'
-    variant of the identified components, else the rigid ``vehicle``; without the road test or
-    the joint axes when the bag has them."""
-    from motoflex_ros.record.rerun_motorcycle import log_motorcycle, vehicle_model
-    model, description = vehicle_model(vehicle, identify)
-    log_motorcycle(rec, model, road_test=road_test, joint_axes=joint_axes)
+def log_vehicle_model(rec, motorcycle, road_test, joint_axes):
+    """The motorcycle from the vehicle engine: ``motorcycle`` = (MotorcycleMotion,
+    description) computed by the caller (:mod:`motoflex_ros.vehicle.animation`); without the
+    road test or the joint axes when the bag has them."""
+    from dataclasses import replace
+
+    from motoflex_ros.record.rerun_motorcycle import log_motorcycle
+    motion, description = motorcycle
+    log_motorcycle(rec, motion if road_test else replace(motion, road=None),
+                   joint_axes=joint_axes)
     rec.log("/vehicle/model", rr.TextDocument(f"Motorcycle: {description}."), static=True)
     return [f"vehicle model: {description}"]

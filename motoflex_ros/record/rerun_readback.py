@@ -84,8 +84,11 @@ def rerun_executable():
 
 def verify_text(rrd_path):
     """Output of ``rerun rrd verify``: exit 0 alone is not enough (0 files also exit 0)."""
-    result = subprocess.run([rerun_executable(), "rrd", "verify", str(rrd_path)],
-                            capture_output=True, text=True, timeout=120)
+    from motoflex_ros.record.rerun_private import private_rerun_env
+    rerun = rerun_executable()
+    with private_rerun_env(rerun) as env:
+        result = subprocess.run([rerun, "rrd", "verify", str(rrd_path)], capture_output=True,
+                                text=True, timeout=120, env=env)
     return f"exit {result.returncode}\n{result.stdout}{result.stderr}"
 
 

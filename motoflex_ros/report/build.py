@@ -9,8 +9,10 @@ import time
 from tqdm import tqdm
 
 from motoflex_ros.cli.output import atomic_write_text
+from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
 from motoflex_ros.report import tables
-from motoflex_ros.report.html import Figure, Missing, Section, render
+from motoflex_ros.report.html import Figure, Missing, Note, Section, render
+from motoflex_ros.report.provenance import provenance_table
 from motoflex_ros.report.sources import FIG9_VARIANTS, load_run_data
 from motoflex_ros.structures.published import COMPONENTS
 from motoflex_ros.vehicle.variants import variant_label
@@ -27,25 +29,41 @@ def _figures():
 
 
 def _components(data, files):
+    from motoflex_ros.plots.components import MODE_FRACTION
     components = data["components"]
     parts = [tables.components_table(components), tables.table1(components)]
     for name in COMPONENTS:
-        parts.append(Figure(f"modes_{name}", f"{name}: first torsion and bending modes of the "
-                            "clamped reduced model", _figures().component_modes_figure(name)))
+        parts.append(Figure(
+            f"modes_{name}", f"{name}: first torsion (green, solid) and bending (red, dashed) "
+            "modes of the clamped reduced model over the undeformed structure (grey); clamps "
+            f"light blue, loaded end orange. Each mass-normalised mode shape is drawn times the "
+            f"scale factor in the legend, so that its largest node translation is "
+            f"{MODE_FRACTION:.0%} of the component's size.",
+            _figures().component_modes_figure(name)))
     return parts
 
 
 def _identification(data, files):
     identify = data["identify"]
-    return [tables.identification_table(identify, files["identify"]),
-            tables.table2(identify, files["identify"])]
+    table2 = tables.table2(identify, files["identify"])
+    return [tables.identification_table(identify, files["identify"]), table2]
+
+
+AXES_CAPTION = (
+    "deformation axes in the x-z plane, the figure 'motoflex identify --plot' writes: static "
+    "axis blue, torsion axis green (solid) and bending axis red (dashed) from the harmonic tests "
+    "at the first torsion and bending eigenfrequencies; thin grey lines are the axes of the "
+    "frequency sweep (harmonic tests from 1 Hz to 5 Hz below the first eigenfrequency), shaded "
+    "by test frequency on the colour bar, which converge on the static axis as the frequency "
+    "falls. l and \u03b2 in the legend as in the identification table.")
 
 
 def _axes(data, files):
     identify = data["identify"]
     numbers = {"frame": 5, "front_assembly": 6, "swingarm": 7}
-    return [Figure(f"fig{numbers[c]}_{c}", f"Fig. {numbers[c]} ({PAPER}): deformation axes of "
-                   f"the {c.replace('_', ' ')}", _figures().axes_figure(c, identify[c]))
+    return [Figure(f"fig{numbers[c]}_{c}", f"Fig. {numbers[c]} ({PAPER}), "
+                   f"{c.replace('_', ' ')}: {AXES_CAPTION}",
+                   _figures().axes_figure(c, identify[c]))
             for c in COMPONENTS]
 
 
@@ -53,7 +71,8 @@ def _accuracy(data, files):
     accuracy = data["accuracy"]
     return [tables.accuracy_table(accuracy),
             Figure("fig8", f"Fig. 8 ({PAPER}): e_RMS of the lumped models against the flexible "
-                   "ones", _figures().fig8_figure(accuracy))]
+                   "ones, per component made flexible and for all three; log axis, each bar "
+                   "labelled with its value [%]", _figures().fig8_figure(accuracy))]
 
 
 def _fig9(data, files):
@@ -73,13 +92,19 @@ def _sensitivity(data, files):
 
 def _vehicle(data, files):
     eig = data["eig"]
+    vehicle = eig.get("vehicle", "touring")
     if "variant" in eig:
         variant, label = eig["variant"], variant_label(eig["variant"], eig["components"])
+        text = (f"The {vehicle} motorcycle identified on this run: the {label}, built from the "
+                f"run's identified values ({files['identify']}).")
+        if (variant, list(eig["components"])) == (VEHICLE_VARIANT, list(VEHICLE_COMPONENTS)):
+            text += " It is the model the campaign's vehicle_simulator runs and prints."
     else:
         variant, label = "unknown", f"model not recorded in {files['eig']}"
-    return [Figure("eig_touring", f"{eig.get('vehicle', 'touring').capitalize()} motorcycle, "
-                   f"{label}: weave and wobble against speed",
-                   _figures().fig9_figure({variant: eig}))]
+        text = f"{files['eig']} does not record which motorcycle model it holds."
+    return [Note(text, "vehicle-model"),
+            Figure("eig_touring", f"{vehicle.capitalize()} motorcycle, {label}: weave and "
+                   "wobble against speed", _figures().fig9_figure({variant: eig}))]
 
 
 def _whipple(data, files):
@@ -117,7 +142,7 @@ def build_report(folder, compute=True, progress=True, warning=None):
     """Write ``folder``/report.html (``warning``, e.g. an incomplete run, at the top); returns
     (path, sections)."""
     run_data = load_run_data(folder, compute=compute, progress=progress)
-    sections = []
+    sections = [Section("provenance", "Provenance", (provenance_table(folder),))]
     bar = tqdm(SECTIONS, desc="report sections", unit="section", disable=not progress,
                file=sys.stderr)
     for spec in bar:

@@ -4,8 +4,6 @@ deformation axes of Figs. 5-7, the front-assembly curves of Fig. 9, and Figs. 8 
 """
 import functools
 import io
-import tempfile
-from pathlib import Path
 
 import matplotlib
 
@@ -13,22 +11,24 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from motoflex_ros.report.geometry import axis_segment  # noqa: E402
+from motoflex_ros.plots.labels import VARIANT_LABELS  # noqa: E402
 from motoflex_ros.units import ms_to_kmh  # noqa: E402
 
 __all__ = ["png_of", "component_modes_figure", "axes_figure", "fig9_figure", "fig8_figure",
-           "fig10_figure", "component_model"]
+           "fig10_figure", "component_model", "modes_plot", "DPI"]
 
 CLAMP = "#5ac8ff"
 LOAD = "#ff8c00"
-MODE_COLORS = {"torsion": "#1eaa3c", "bending": "#2a6eff"}
+MODE_COLORS = {"torsion": "#2ca02c", "bending": "#d62728"}
+MODE_STYLES = {"torsion": "-", "bending": "--"}
+DPI = 100
 
 
 def png_of(fig):
-    """PNG bytes of a matplotlib figure (closed afterwards)."""
+    """PNG bytes of a matplotlib figure at :data:`DPI` (closed afterwards)."""
     buffer = io.BytesIO()
     try:
-        fig.savefig(buffer, format="png", dpi=100)
+        fig.savefig(buffer, format="png", dpi=DPI)
     finally:
         plt.close(fig)
     return buffer.getvalue()
@@ -47,67 +47,45 @@ def _draw_beams(ax, xyz, elements, dims, **style):
         ax.plot(xyz[[i, j], dims[0]], xyz[[i, j], dims[1]], **style)
 
 
-def _mode_translations(reduced, index, size):
-    shape = reduced.node_displacements(reduced.mode_shapes[:, index])[:, :3]
-    peak = np.abs(shape).max()
-    return shape * (0.1 * size / peak if peak > 0 else 0.0)
-
-
-def component_modes_figure(name):
-    """Side (x-z) and top (x-y) views of a component with its first torsion and bending modes.
-
-    Mode shapes are the clamped reduced model's, scaled so the largest node translation is a
-    tenth of the component's size.
-    """
+def modes_plot(name):
+    """Side (x-z) and top (x-y) views of a component with its first torsion and bending modes
+    (matplotlib Figure); each mode's legend entry states its scale factor
+    (:func:`motoflex_ros.plots.components.mode_drawing`)."""
+    from motoflex_ros.plots.components import mode_drawing
     component, reduced = component_model(name)
     xyz, elements = component.node_xyz, component.elements
-    size = np.ptp(xyz, axis=0).max()
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    modes = [m for m in (mode_drawing(component, reduced, label)
+                         for label in MODE_COLORS) if m is not None]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.8), layout="constrained")
     for ax, dims, title in zip(axes, ((0, 2), (0, 1)), ("side (x-z)", "top (x-y)")):
         _draw_beams(ax, xyz, elements, dims, color="0.6", lw=1.5)
-        for label, color in MODE_COLORS.items():
-            index = reduced.first_mode(label)
-            if index is None:
-                continue
-            moved = xyz + _mode_translations(reduced, index, size)
-            _draw_beams(ax, moved, elements, dims, color=color, lw=1.0)
-            ax.plot([], [], color=color,
-                    label=f"first {label}: {reduced.frequencies_hz[index]:.1f} Hz")
+        for mode in modes:
+            _draw_beams(ax, mode.xyz, elements, dims, color=MODE_COLORS[mode.label], lw=1.0,
+                        ls=MODE_STYLES[mode.label])
         ax.plot(*component.clamp_xyz[:, dims].T, "o", color=CLAMP)
         ax.plot(*component.q0[list(dims)], "o", color=LOAD)
         ax.set_aspect("equal")
         ax.set_title(f"{name}: {title}")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("z [m]" if dims[1] == 2 else "y [m]")
-    axes[0].legend(fontsize=8)
-    fig.tight_layout()
-    return png_of(fig)
+    handles = [matplotlib.lines.Line2D([], [], color="0.6", lw=1.5, label="undeformed")]
+    handles += [matplotlib.lines.Line2D([], [], color=MODE_COLORS[m.label],
+                                        ls=MODE_STYLES[m.label], label=m.legend())
+                for m in modes]
+    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8)
+    return fig
+
+
+def component_modes_figure(name):
+    """PNG of :func:`modes_plot`."""
+    return png_of(modes_plot(name))
 
 
 def axes_figure(name, identified):
-    """Figs. 5-7: deformation axes in the x-z plane (static blue, torsion and bending green,
-    sweep thin black), clamp points light blue, load point orange."""
-    component, _ = component_model(name)
-    q0 = component.q0
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    _draw_beams(ax, component.node_xyz, component.elements, (0, 2), color="0.7", lw=1.2)
-    for step in identified.get("sweep", []):
-        seg = axis_segment(step["l"], step["beta"], q0)
-        ax.plot(seg[:, 0], seg[:, 2], color="black", lw=0.5)
-    for test, color in (("torsion", "#1eaa3c"), ("bending", "#1eaa3c"), ("static", "#2a6eff")):
-        seg = axis_segment(identified[test]["l"], identified[test]["beta"], q0)
-        ax.plot(seg[:, 0], seg[:, 2], color=color, lw=2, label=test)
-        ax.annotate(test, seg[1, [0, 2]], fontsize=8, color=color)
-    ax.plot(component.clamp_xyz[:, 0], component.clamp_xyz[:, 2], "o", color=CLAMP,
-            label="clamp")
-    ax.plot(q0[0], q0[2], "o", color=LOAD, label="load")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("z [m]")
-    ax.set_title(f"{name}: deformation axes")
-    ax.legend(fontsize=8, loc="best")
-    fig.tight_layout()
-    return png_of(fig)
+    """Figs. 5-7: PNG of :func:`motoflex_ros.plots.axes.axes_figure`, the figure
+    ``motoflex identify --plot`` writes."""
+    from motoflex_ros.plots.axes import axes_figure as plot
+    return png_of(plot(component_model(name)[0], identified))
 
 
 def _mode_curve(eig, mode):
@@ -125,8 +103,9 @@ def fig9_figure(variants):
         for variant, eig in variants.items():
             speeds, real, freq = _mode_curve(eig, mode)
             style = {"lw": 2.5, "color": "black"} if variant == "flexible" else {"lw": 1.2}
-            axes[0, col].plot(speeds, freq, label=variant, **style)
-            axes[1, col].plot(speeds, real, label=variant, **style)
+            label = VARIANT_LABELS.get(variant, variant)
+            axes[0, col].plot(speeds, freq, label=label, **style)
+            axes[1, col].plot(speeds, real, label=label, **style)
         axes[0, col].set_title(mode)
         axes[0, col].set_ylabel("frequency [Hz]")
         axes[1, col].set_ylabel("real part [1/s]")
@@ -136,20 +115,13 @@ def fig9_figure(variants):
     return png_of(fig)
 
 
-def _via_file(plot, data):
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "figure.png"
-        plot(data, path)
-        return path.read_bytes()
-
-
 def fig8_figure(accuracy):
-    """Fig. 8: e_RMS bars (plots.study.plot_accuracy_bars)."""
-    from motoflex_ros.plots.study import plot_accuracy_bars
-    return _via_file(plot_accuracy_bars, accuracy)
+    """Fig. 8: PNG of the e_RMS bars of ``motoflex study accuracy --plot``."""
+    from motoflex_ros.plots.study import accuracy_bars_figure
+    return png_of(accuracy_bars_figure(accuracy))
 
 
 def fig10_figure(sensitivity):
-    """Fig. 10: Pearson bars (plots.study.plot_pearson_bars)."""
-    from motoflex_ros.plots.study import plot_pearson_bars
-    return _via_file(plot_pearson_bars, sensitivity["pearson"])
+    """Fig. 10: PNG of the Pearson bars of ``motoflex study sensitivity --plot``."""
+    from motoflex_ros.plots.study import pearson_bars_figure
+    return png_of(pearson_bars_figure(sensitivity["pearson"]))

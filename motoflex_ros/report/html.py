@@ -1,23 +1,31 @@
 """Self-contained HTML of a report: inline CSS, figures as base64 PNG, number cells traceable.
 
 Every number cell carries ``data-kind`` (json, paper, diff, absdiff), ``data-value`` (the full
-float) and, for JSON values, ``data-json`` (file) and ``data-path`` (keys joined by '/').
+float) and, for JSON values, ``data-json`` (file) and ``data-path`` (keys joined by '/'); a
+cell showing its value in another unit than the JSON's says which (``data-shown-unit``, beta in
+deg of rad), a flagged deviation has ``class="flag"``. Provenance cells have kind
+``provenance`` (or ``missing``: not recorded), the field as path and the file as source.
+Sections have the id ``section-<name>``, so no id is used twice. The page is
+:data:`CONTENT_WIDTH_PX` wide: figures are made at most that wide, so none is shown shrunk.
 """
 import base64
 import html
 from dataclasses import dataclass
 
-__all__ = ["Figure", "Missing", "Section", "render"]
+__all__ = ["Figure", "Missing", "Section", "Note", "render", "CONTENT_WIDTH_PX", "section_id"]
 
-CSS = """
-body { font-family: sans-serif; max-width: 1100px; margin: 2em auto; color: #222; }
-table { border-collapse: collapse; margin: 0.5em 0 1.5em; font-size: 0.9em; }
-th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
-th:first-child, td:first-child { text-align: left; }
-td[data-kind=paper] { color: #555; } td[data-kind=diff] { font-style: italic; }
-.na { color: #a33; } figure { margin: 1em 0; } img { max-width: 100%; }
-.sources { font-size: 0.85em; color: #555; }
-.warning { border: 2px solid #a33; background: #fee; padding: 0.5em 1em; font-weight: bold; }
+CONTENT_WIDTH_PX = 1100
+CSS = f"""
+body {{ font-family: sans-serif; max-width: {CONTENT_WIDTH_PX}px; margin: 2em auto; color: #222; }}
+table {{ border-collapse: collapse; margin: 0.5em 0 1.5em; font-size: 0.9em; }}
+th, td {{ border: 1px solid #ccc; padding: 3px 8px; text-align: right; }}
+th:first-child, td:first-child {{ text-align: left; }}
+td[data-kind=paper] {{ color: #555; }} td[data-kind=diff] {{ font-style: italic; }}
+td.flag {{ background: #fdd; color: #a00; font-weight: bold; }}
+td[data-kind=missing] {{ color: #a33; }} #provenance td {{ text-align: left; }}
+.na {{ color: #a33; }} figure {{ margin: 1em 0; }} img {{ max-width: 100%; }}
+.sources {{ font-size: 0.85em; color: #555; }} .note {{ font-size: 0.9em; }}
+.warning {{ border: 2px solid #a33; background: #fee; padding: 0.5em 1em; font-weight: bold; }}
 """
 
 
@@ -39,6 +47,14 @@ class Missing:
 
 
 @dataclass(frozen=True)
+class Note:
+    """A paragraph of text; ``id`` (optional) lets a test find it."""
+
+    text: str
+    id: str = None
+
+
+@dataclass(frozen=True)
 class Section:
     """A report section: id, title and parts (Table, Figure, Missing)."""
 
@@ -57,6 +73,10 @@ def _cell(cell, tag="td"):
         attrs += f' data-json="{html.escape(cell.file)}"'
     if cell.path:
         attrs += f' data-path="{html.escape(cell.path)}"'
+    if cell.shown_unit:
+        attrs += f' data-shown-unit="{cell.shown_unit}"'
+    if cell.flagged:
+        attrs += ' class="flag"'
     return f"<{tag}{attrs}>{html.escape(cell.text)}</{tag}>"
 
 
@@ -78,10 +98,18 @@ def _figure(figure):
 def _part(part):
     if isinstance(part, Figure):
         return _figure(part)
+    if isinstance(part, Note):
+        ident = f' id="{part.id}"' if part.id else ""
+        return f'<p class="note"{ident}>{html.escape(part.text)}</p>'
     if isinstance(part, Missing):
         return (f'<p class="na" data-missing="{html.escape(part.what)}">{html.escape(part.what)}'
                 f": not available ({html.escape(part.reason)})</p>")
     return _table(part)
+
+
+def section_id(name):
+    """The HTML id of section ``name`` (tables and figures use the bare names)."""
+    return f"section-{name}"
 
 
 def render(title, sections, sources, warning=None):
@@ -89,7 +117,7 @@ def render(title, sections, sources, warning=None):
     an incomplete run) comes first, right under the title."""
     items = "".join(f"<li>{html.escape(name)}: {html.escape(origin)}</li>"
                     for name, origin in sources)
-    body = "".join(f'<section id="{s.id}"><h2>{html.escape(s.title)}</h2>'
+    body = "".join(f'<section id="{section_id(s.id)}"><h2>{html.escape(s.title)}</h2>'
                    + "".join(_part(p) for p in s.parts) + "</section>" for s in sections)
     notice = (f'<p class="warning" id="warning">{html.escape(warning)}</p>' if warning else "")
     return (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>'

@@ -19,7 +19,7 @@ from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
 
 __all__ = ["Source", "SOURCES", "RunData", "load_run_data", "FIG9_VARIANTS"]
 
-SWEEP = ["--range-kmh", "40", "210", "--step", "10"]
+SWEEP = ["--range-kmh", "40", "210", "--step-kmh", "10"]
 IDENTIFIED = "{identified}"     # replaced by the run's identification file (dropped if none)
 IDENTIFICATION_FILES = ("identification.json", "identify.json")
 FIG9_VARIANTS = ("flexible", "state_of_the_art", "static", "torsion", "bending")
@@ -41,15 +41,15 @@ SOURCES = (
     Source("identify", "identify.json", ("identify",), ("identification.json",)),
     # the motorcycle the campaign prints: its vehicle_simulator's variant of the identified values
     Source("eig", "eig.json", ("eig", "--vehicle", "touring", "--flex", VEHICLE_VARIANT,
-                               "--components", ",".join(VEHICLE_COMPONENTS),
+                               *(a for c in VEHICLE_COMPONENTS for a in ("--component", c)),
                                "--identified", IDENTIFIED, *SWEEP)),
     Source("accuracy", "accuracy.json", ("study", "accuracy", "--identified", IDENTIFIED)),
     Source("sensitivity", "sensitivity.json", ("study", "sensitivity", "--identified",
                                                IDENTIFIED)),
-    Source("whipple", "whipple.json", ("eig", "--vehicle", "whipple_benchmark", "--speeds", "5",
+    Source("whipple", "whipple.json", ("eig", "--vehicle", "whipple_benchmark", "--speeds-ms", "5",
                                        "10")),
     *(Source(f"fig9_{v}", f"eig_front_assembly_{v}.json",
-             ("eig", "--vehicle", "touring", "--flex", v, "--components", "front_assembly",
+             ("eig", "--vehicle", "touring", "--flex", v, "--component", "front_assembly",
               "--identified", IDENTIFIED, *SWEEP)) for v in FIG9_VARIANTS),
 )
 

@@ -54,6 +54,7 @@ class Component:
     origin: np.ndarray
     source: str = ""
     damping_ratio: object = DEFAULT_DAMPING_RATIO
+    body_names: dict = None
 
     @property
     def node_xyz(self):

@@ -100,6 +100,9 @@ STRUCTURE_SCHEMA = Field("mapping", fields={
         "clamps": Field("list", min_items=1, item=Field("str")),
         "others": Field("list", required=False, default=[], item=Field("str")),
     }),
+    # optional names of the flexible bodies (paper Table A.1): {body name: a node of it}
+    "bodies": Field("mapping", required=False, default={}, extra=True, fields={},
+                    item=Field("str")),
 })
 
 
@@ -248,6 +251,9 @@ def structure_from_config(cfg, source, component_cls):
                    for i, n in enumerate(itf["others"]))
     if end in clamps:
         raise ConfigError(source, "interfaces.loaded_end", "the loaded end cannot be clamped")
+    body_names = {body: _lookup(names, node, source, f"bodies.{body}", "node")
+                  for body, node in cfg["bodies"].items()}
     return component_cls(name=cfg["component"], structure=s, clamp_nodes=clamps,
                          loaded_end=end, interface_nodes=clamps + (end,) + others,
-                         node_names=names, origin=np.asarray(cfg["placement"]["origin"]))
+                         node_names=names, origin=np.asarray(cfg["placement"]["origin"]),
+                         body_names=body_names)

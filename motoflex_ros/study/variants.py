@@ -149,7 +149,8 @@ def build_variant(vehicle, variant, names, identified, components):
         for name in names:
             lumped.check_site(vehicle, name, lumped.site_of(components[name]))
         return flexible_vehicle(vehicle, {
-            name: superelement_of(components[name], lumped.SUPERELEMENT_PARENT[name])
+            name: superelement_of(components[name], lumped.SUPERELEMENT_PARENT[name],
+                                  follows=lumped.SUPERELEMENT_FOLLOWS.get(name))
             for name in names})
     joints = {}
     for name in names:
@@ -166,3 +167,21 @@ def build_variant(vehicle, variant, names, identified, components):
     return lumped.lumped_vehicle(vehicle, variant, joints)
 
 
+def identified_motorcycle(vehicle="touring", identified=None):
+    """(VehicleModel, description): the lumped 'static' variant of all components identified in
+    ``identified`` (identify-format dict) when it can be built, else the rigid ``vehicle``
+    (a shipped name or a YAML file)."""
+    from motoflex_ros.config import resolve_config
+    from motoflex_ros.errors import MotoflexError
+    from motoflex_ros.structures import load_component
+    from motoflex_ros.vehicle.model import load_vehicle
+    rigid = load_vehicle(resolve_config("vehicles", vehicle))
+    names = [n for n in lumped.COMPONENTS if n in (identified or {})]
+    if not names:
+        return rigid, f"{vehicle} (rigid)"
+    try:
+        components = {n: load_component(n) for n in names}
+        model = build_variant(rigid, "static", names, identified, components)
+    except (MotoflexError, KeyError, ValueError) as exc:
+        return rigid, f"{vehicle} (rigid; lumped 'static' variant not built: {exc})"
+    return model, f"{vehicle}, lumped 'static' variant of {', '.join(names)}"

@@ -48,7 +48,7 @@ from motoflex_ros.vehicle.model import Body, Joint, composite_inertia
 
 __all__ = ["VARIANTS", "COMPONENTS", "FlexJoint", "ComponentSite", "site_of", "axis_in_vehicle",
            "state_of_the_art_axis", "check_site", "reattach", "lumped_vehicle", "mass_properties",
-           "MOUNTS", "SUPERELEMENT_PARENT", "NEW_BODY"]
+           "MOUNTS", "SUPERELEMENT_PARENT", "SUPERELEMENT_FOLLOWS", "NEW_BODY"]
 
 VARIANTS = ("rigid", "state_of_the_art", "static", "torsion", "bending", "decomposed")
 COMPONENTS = MOTORCYCLE_COMPONENTS
@@ -61,10 +61,19 @@ MOUNTS = {
 }
 NEW_BODY = {"frame": "frame_head", "front_assembly": "front_flex", "swingarm": "rear_flex"}
 SUPERELEMENT_PARENT = {"frame": "frame", "front_assembly": "lower_fork", "swingarm": "swingarm"}
-"""Body each component's superelement is welded to in the flexible motorcycle: the one that
-holds its bench clamps (frame: the rear frame with the engine mounts; swingarm: the main arm,
-locked on its pivot; front assembly: the steered lower fork, which is NOT where the bench
-clamps it: docs/boundary-conditions.md)."""
+"""Body each component's superelement hangs its elastic coordinates from in the flexible
+motorcycle (frame: the rear frame with the engine mounts; swingarm: the main arm, locked on its
+pivot; front assembly: the steered lower fork, which carries the wheel)."""
+SUPERELEMENT_FOLLOWS = {
+    "front_assembly": {"upper_fork": ("fork_bridge", "stanchion_top_left",
+                                      "stanchion_top_right"),
+                       "telelever_arm": ("arm_pivot",)},
+    "swingarm": {"torque_strut": ("strut_frame",), "wheel_carrier": ("carrier_pivot",)},
+}
+"""Which vehicle body each of a component's bodies (paper Table A.1) moves rigidly with, by a
+node of that body; the bodies not named follow SUPERELEMENT_PARENT. The front assembly's arm
+is on its pivot in the frame and does not steer; its bridge and stanchions hang from the head
+joint (docs/boundary-conditions.md)."""
 TOLERANCE = 1e-3
 """How far [m] a component's interface point may lie from the vehicle's joint point."""
 
@@ -298,7 +307,7 @@ def lumped_vehicle(model, variant, joints_by_component):
     wheels = list(model.wheels)
     for component, joints in joints_by_component.items():
         if component not in MOUNTS:
-            raise ConfigError("--components", component, "unknown component (allowed: "
+            raise ConfigError("--component", component, "unknown component (allowed: "
                                                          f"{', '.join(COMPONENTS)})")
         _insert(model, component, variant, joints, bodies, joint_list, wheels)
     flex = {**model.flex, "variant": variant, "components": tuple(joints_by_component)}

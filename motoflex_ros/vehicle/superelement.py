@@ -22,29 +22,40 @@ component's nodes, columns omega then v_0), M_v its translational part (the stat
 the elastic displacement), g the gravity vector [m/s^2]. The rigid-body mass of the component
 stays with the vehicle's rigid bodies, which already carry it, so total mass, centre of mass and
 inertia equal the rigid motorcycle's by construction.
+
+Per-body rigid motion (the paper's flexible bodies, Appendix, Table A.1): a component is
+several bodies (:mod:`motoflex_ros.structures.bodies`) and each moves rigidly with the vehicle
+body that holds it, not all with the parent: the front assembly's fork bridge and stanchions
+with the upper fork (steered, on the head joint), its lower fork with the lower fork, its
+longitudinal arm with the arm (on its pivot in the frame: it does not steer). Gamma is then
+taken per vehicle body P (the rows of the nodes that follow P), M_xR = sum_P T^T M Gamma_P, and
+the coupling and gravity terms above are summed over those bodies, each with its own frame
+(``follows`` of :func:`superelement_of`). The elastic coordinates and their end chain stay
+those of the clamped component, relative to ``parent``.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from motoflex_ros.errors import ModelError
 from motoflex_ros.spatial import cross, skew
+from motoflex_ros.structures.bodies import split_bodies
 from motoflex_ros.structures.clamped import reduce_clamped
 from motoflex_ros.vehicle.model import Body, Joint
 
 __all__ = ["Superelement", "BoundSuperelement", "superelement_of", "rigid_field",
-           "coordinate_names", "end_body", "chain_parts", "generalized_residual"]
+           "coordinate_names", "end_body", "chain_parts", "generalized_residual", "follower_masks"]
 
 
 @dataclass(frozen=True)
 class Superelement:
     """A component's clamped Craig-Bampton model placed in the vehicle.
 
-    name; parent: body its clamps are welded to; end_point q0 [m] (vehicle frame); M, K, C
-    (n_x square, [kg], [N/m], [N s/m] and mixed units by coordinate); M_xR (n_x, 6) coupling
-    with the parent's (omega, v_0) field; n_modes fixed-interface modes after the six end DOFs.
+    name; parent: body its clamps are welded to and its end chain hangs from; end_point q0 [m]
+    (vehicle frame); M, K, C (n_x square, [kg], [N/m], [N s/m] and mixed units by coordinate);
+    couplings: ((body, M_xR_P), ...) the (n_x, 6) coupling with the (omega, v_0) field of each
+    vehicle body P its nodes follow; n_modes fixed-interface modes after the six end DOFs.
     """
 
     name: str
@@ -53,39 +64,43 @@ class Superelement:
     M: np.ndarray
     K: np.ndarray
     C: np.ndarray
-    M_xR: np.ndarray
+    couplings: tuple
     n_modes: int
+
+    @property
+    def M_xR(self):
+        """Coupling (n_x, 6) with one rigid motion of the whole component [kg, kg m]."""
+        return sum(m for _, m in self.couplings)
 
     @property
     def n(self):
         """Number of elastic coordinates (6 end DOFs + modes)."""
         return self.K.shape[0]
 
-    @property
-    def M_v(self):
-        """Translational coupling (3, n_x) [kg]: static moment of the elastic displacement."""
-        return self.M_xR[:, 3:].T
-
     def bind(self, tree):
-        """The element placed in a compiled tree: its coordinates and parent frame looked up
-        once (force-element hook of the engine, see ``VehicleModel.elements``)."""
+        """The element placed in a compiled tree: its coordinates and the frames of the bodies
+        its nodes follow looked up once (force-element hook of the engine, see
+        ``VehicleModel.elements``)."""
         indices = np.array([tree.index(n) for n in coordinate_names(self)])
-        return BoundSuperelement(self, indices, tree.body_frames[self.parent])
+        frames = tuple(tree.body_frames[body] for body, _ in self.couplings)
+        return BoundSuperelement(self, indices, frames,
+                                 tuple(np.array(m) for _, m in self.couplings))
 
     def scaled(self, factor):
         """The same superelement with stiffness multiplied by ``factor`` (rigid-limit checks)."""
-        return Superelement(self.name, self.parent, self.end_point, self.M, self.K * factor,
-                            self.C * factor, self.M_xR, self.n_modes)
+        return replace(self, K=self.K * factor, C=self.C * factor)
 
 
 @dataclass(frozen=True)
 class BoundSuperelement:
     """A Superelement in a compiled tree: ``indices`` of its engine coordinates
-    (:func:`coordinate_names` order) and the frame index of its parent body."""
+    (:func:`coordinate_names` order), the frame index of each body its nodes follow and the
+    coupling M_xR_P with each (same order)."""
 
     element: Superelement
     indices: np.ndarray
-    parent_frame: int
+    frames: tuple
+    couplings: tuple
 
     def generalized_residual(self, system, frames, q, u, udot):
         """Force-element hook of the engine (see :func:`generalized_residual`)."""
@@ -106,19 +121,31 @@ def rigid_field(xyz):
     return field.reshape(6 * n, 6)
 
 
-def _assembled_rigid_field(asm, node_xyz):
-    """Rigid field on the assembled DOFs: Gamma_asm with expand @ Gamma_asm = Gamma_nodes."""
-    gamma_nodes = rigid_field(node_xyz)
-    normal = (asm.expand.T @ asm.expand).tocsc()
-    return spla.spsolve(normal, asm.expand.T @ gamma_nodes).reshape(-1, 6)
+def follower_masks(component, parent, follows):
+    """{vehicle body: node mask} of the component's nodes: the nodes of each of its bodies
+    (:func:`~motoflex_ros.structures.bodies.split_bodies`) that holds a node named in
+    ``follows[body]`` follow that body, all others ``parent``."""
+    owner = np.full(len(component.node_xyz), parent, dtype=object)
+    groups = split_bodies(component.structure)
+    for body, node_names in (follows or {}).items():
+        for name in node_names:
+            if name not in component.node_names:
+                raise ModelError(f"component '{component.name}': no node '{name}' to say which "
+                                 f"of its bodies follows the vehicle body '{body}'")
+            group = next(g for g in groups if component.node_names[name] in g)
+            owner[list(group)] = body
+    order = [parent] + sorted({str(b) for b in owner} - {parent})
+    return {body: owner == body for body in order}
 
 
-def superelement_of(component, parent, n_modes=20, f_max_hz=600.0, zeta=None):
+def superelement_of(component, parent, n_modes=20, f_max_hz=600.0, zeta=None, follows=None):
     """Superelement of a structures Component welded to body ``parent`` at its clamps.
 
     The reduced matrices are those of ``component.clamped_reduced(n_modes, f_max_hz, zeta)``
     (``zeta`` None: the component's own damping_ratio);
     node positions are taken in the vehicle frame (placement origin + component frame).
+    ``follows``: {vehicle body: [node names]}: the component's bodies holding those nodes move
+    rigidly with that vehicle body (module docstring); the others with ``parent``.
     """
     cb, asm = component.craig_bampton(n_modes, f_max_hz, zeta)
     keep, end_dofs = component.clamped_coordinates(cb)
@@ -126,12 +153,16 @@ def superelement_of(component, parent, n_modes=20, f_max_hz=600.0, zeta=None):
         raise ModelError(f"component '{component.name}': the loaded end must be the first "
                          "interface node after the clamps")
     reduced = reduce_clamped(component.name, cb, keep, end_dofs, component.q0, asm.expand)
-    gamma = _assembled_rigid_field(asm, component.node_xyz + component.origin)
+    gamma_nodes = rigid_field(component.node_xyz + component.origin)
+    free = np.flatnonzero(asm.free_index >= 0)   # free DOFs are node DOFs, in this order
     transform = cb.transform[:, keep]
     mass = asm.M if sp.issparse(asm.M) else sp.csr_matrix(asm.M)
-    coupling = np.asarray(transform.T @ (mass @ gamma))
+    couplings = []
+    for body, mask in follower_masks(component, parent, follows).items():
+        gamma = (gamma_nodes * np.repeat(mask, 6)[:, None])[free]
+        couplings.append((body, np.asarray(transform.T @ (mass @ gamma))))
     return Superelement(component.name, parent, component.origin + component.q0, reduced.M,
-                        reduced.K, reduced.C, coupling, cb.n_modes)
+                        reduced.K, reduced.C, tuple(couplings), cb.n_modes)
 
 
 _END_DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
@@ -182,16 +213,17 @@ def generalized_residual(bound, system, frames, q, u, udot):
     looked up here, on the hot path of the linearization.
     """
     se, idx = bound.element, bound.indices
-    f = frames[bound.parent_frame]
     g = np.array([0.0, 0.0, -system.model.gravity])
     x, xd, xdd = q[idx], u[idx], udot[idx]
-    alpha = f.Jw @ udot + f.dw
-    a0 = f.Jv @ udot + f.dv0 + cross(f.w, f.v0)
-    field_acc = np.concatenate([alpha, a0])
-    out = np.zeros(len(u), np.result_type(q, u, udot, f.R))
-    out[idx] = (se.M @ xdd + se.M_xR @ field_acc + se.C @ xd + se.K @ x
-                - se.M_v.T @ (f.R.T @ g))
-    wrench = se.M_xR.T @ xdd
-    moment = cross(f.R @ (se.M_v @ x), g)
-    out += f.Jw.T @ (wrench[:3] - moment) + f.Jv.T @ wrench[3:]
+    out = np.zeros(len(u), np.result_type(q, u, udot, *(frames[i].R for i in bound.frames)))
+    out[idx] = se.M @ xdd + se.C @ xd + se.K @ x
+    for frame, m_xr in zip(bound.frames, bound.couplings):
+        f = frames[frame]
+        alpha = f.Jw @ udot + f.dw
+        a0 = f.Jv @ udot + f.dv0 + cross(f.w, f.v0)
+        m_v = m_xr[:, 3:].T
+        out[idx] += m_xr @ np.concatenate([alpha, a0]) - m_v.T @ (f.R.T @ g)
+        wrench = m_xr.T @ xdd
+        moment = cross(f.R @ (m_v @ x), g)
+        out += f.Jw.T @ (wrench[:3] - moment) + f.Jv.T @ wrench[3:]
     return out

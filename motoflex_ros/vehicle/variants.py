@@ -16,11 +16,14 @@ __all__ = ["FLEX_CHOICES", "parse_components", "flexible_vehicle", "variant_labe
 FLEX_CHOICES = ("flexible",) + lumped.VARIANTS
 
 
-def parse_components(text, source="--components"):
-    """Component names from a comma-separated list ('all' = the three motorcycle components)."""
-    if text in (None, "", "all"):
+def parse_components(names, source="--component"):
+    """Component names from a list (repeatable ``--component``) or a comma-separated text; None,
+    empty or 'all' = the three motorcycle components."""
+    if isinstance(names, str):
+        names = names.split(",")
+    names = [n.strip() for n in (names or []) if n.strip()]
+    if names in ([], ["all"]):
         return list(lumped.COMPONENTS)
-    names = [n.strip() for n in text.split(",") if n.strip()]
     for name in names:
         if name not in lumped.COMPONENTS:
             raise ConfigError(source, "components", f"unknown component '{name}' (allowed: "

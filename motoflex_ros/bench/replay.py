@@ -1,5 +1,7 @@
 """The clamped reduced component re-run on a bag's recorded load history: its exact shapes.
 
+The physics the rerun recording draws on the bench (record/ only writes what this returns).
+
 The component_simulator node steps the clamped reduced model M x'' + C x' + K x = f F_y(t)
 under every commanded load sample with :class:`motoflex_ros.bench.response.ComponentSimulator`
 (exact discretisation: first-order hold, harmonic hold for harmonic and sweep samples; each
@@ -14,12 +16,15 @@ by order as the nodes pair them; the force is the load's F_y. A bag without phas
 whose labels do not match the loads' stamps) is replayed from the load stamps alone: one test
 from rest, first-order hold between the stamps (exact for a piecewise-linear load).
 """
+import functools
 import json
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ReplayedLoads", "recorded_samples", "replayed_displacements"]
+from motoflex_ros.errors import MotoflexError
+
+__all__ = ["ReplayedLoads", "recorded_samples", "replayed_displacements", "shipped_model"]
 
 NS_PER_S = 1_000_000_000
 
@@ -94,3 +99,15 @@ def replayed_displacements(reduced, samples, picks):
         if k in wanted:
             out[wanted[k]] = reduced.node_displacements(simulator.state[:reduced.n])[:, :3]
     return out
+
+
+@functools.cache
+def shipped_model(component):
+    """(Component, ReducedComponent) of a shipped component name (the clamped reduced model
+    the component simulator integrates), or None when there is no such component."""
+    try:
+        from motoflex_ros.structures import load_component
+        comp = load_component(component)
+        return comp, comp.clamped_reduced()
+    except (MotoflexError, OSError, KeyError, ValueError):
+        return None

@@ -1,0 +1,106 @@
+"""The report's provenance: what the run folder records about how the run was made.
+
+Read from status.json (how the run ended), the bag's metadata.yaml (its time span, message
+count and ROS distribution) and provenance.json (command, package version, git commit, seed,
+sensor noise, written by ``motoflex campaign``). A field the run does not record is shown as
+"not recorded" with the reason, never filled in; what built the report itself (version,
+commit, time) is listed apart, since it may differ from what made the run.
+"""
+import yaml
+
+import motoflex_ros
+from motoflex_ros.launcher.provenance import (
+    PROVENANCE_FILE,
+    git_state,
+    read_provenance,
+    utc_stamp,
+)
+from motoflex_ros.launcher.status import STATUS_FILE, read_status
+from motoflex_ros.report.tables import Cell, Table
+
+__all__ = ["provenance_table", "NOT_RECORDED", "METADATA_FILE"]
+
+METADATA_FILE = "metadata.yaml"
+NOT_RECORDED = "not recorded"
+
+
+def _metadata(folder):
+    """The rosbag2 metadata dict of the bag in ``folder``, or (None, why)."""
+    path = folder / METADATA_FILE
+    if not path.is_file():
+        return None, f"no {METADATA_FILE} (no bag in the run folder)"
+    try:
+        return yaml.safe_load(path.read_text())["rosbag2_bagfile_information"], None
+    except (OSError, yaml.YAMLError, KeyError, TypeError) as exc:
+        return None, f"{METADATA_FILE} unreadable ({exc})"
+
+
+def _bag_rows(folder):
+    info, why = _metadata(folder)
+    fields = ("bag start (UTC)", "bag duration [s]", "messages in the bag", "ROS distribution")
+    if info is None:
+        return [(f, None, why) for f in fields]
+    start_ns = info["starting_time"]["nanoseconds_since_epoch"]
+    return list(zip(fields, (utc_stamp(start_ns / 1e9), info["duration"]["nanoseconds"] / 1e9,
+                             info["message_count"], info.get("ros_distro")),
+                    [METADATA_FILE] * 4))
+
+
+def _status_rows(folder):
+    status = read_status(folder)
+    if status is None:
+        why = f"no {STATUS_FILE}"
+        return [("run status", None, why), ("run ended (UTC)", None, why)]
+    state = status.get("status")
+    if status.get("reason"):
+        state = f"{state} ({status['reason']})"
+    return [("run status", state, STATUS_FILE),
+            ("run ended (UTC)", status.get("time_utc"), STATUS_FILE)]
+
+
+def _commit_text(commit, dirty, note):
+    if commit is None:
+        return None, note
+    return commit + (" (with uncommitted changes)" if dirty else ""), None
+
+
+def _run_rows(folder):
+    record = read_provenance(folder)
+    fields = ("command", "run started (UTC)", "motoflex_ros version", "git commit", "seed",
+              "sensor noise [m]")
+    if record is None or "unreadable" in record:
+        why = (record or {}).get("unreadable", f"no {PROVENANCE_FILE} in the run folder "
+                                 "(a run made before motoflex campaign wrote it)")
+        return [(f, None, why) for f in fields]
+    commit, why = _commit_text(record.get("git_commit"), record.get("git_dirty"),
+                               record.get("git_note"))
+    noise = record.get("sensor_noise_m") or {}
+    noise_text = ", ".join(f"{c} {v:g}" for c, v in noise.items()) or None
+    values = (record.get("command"), record.get("started_utc"), record.get("package_version"),
+              commit, record.get("seed"), noise_text)
+    return [(f, v, PROVENANCE_FILE if v is not None else (why if f == "git commit" else
+                                                           f"not in {PROVENANCE_FILE}"))
+            for f, v in zip(fields, values)]
+
+
+def _report_rows():
+    commit, why = _commit_text(*git_state())
+    return [("report built (UTC)", utc_stamp(), "this report"),
+            ("report built by motoflex_ros", motoflex_ros.__version__, "this report"),
+            ("report built at git commit", commit, why or "this report")]
+
+
+def _row(field, value, source):
+    if value is None:
+        return (Cell(field), Cell(NOT_RECORDED, kind="missing", path=field), Cell(source))
+    return (Cell(field), Cell(str(value), kind="provenance", file=source, path=field),
+            Cell(source))
+
+
+def provenance_table(folder):
+    """Table 'provenance': field, value ('not recorded' where the run has none) and source."""
+    rows = [*_run_rows(folder), *_status_rows(folder), *_bag_rows(folder), *_report_rows()]
+    return Table("provenance", "How this run was made", ("field", "value", "source"),
+                 tuple(_row(*r) for r in rows),
+                 "From the run folder's provenance.json, status.json and metadata.yaml; "
+                 "a value the run does not record is marked 'not recorded', not guessed.")

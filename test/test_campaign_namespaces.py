@@ -1,0 +1,51 @@
+"""Two rigs in one ROS domain at once, under /rig_a and /rig_b (issue 16, point 5).
+
+Every topic of a node is relative, so ``motoflex campaign --namespace /rig_a`` moves the whole
+graph under /rig_a; the two runs share one ROS_DOMAIN_ID (each rig accepts only its own run's
+publishers, so topics that met would fail both runs) and each gives the results of a solo run
+(the offline campaign, which test_campaign_graph shows a solo graph run equals), with a bag
+named as a solo run's (the recorder names its rig's topics from the rig's root).
+"""
+import json
+import os
+import re
+import subprocess
+import sys
+
+import pytest
+
+pytest.importorskip("rclpy")
+from test_campaign_graph import COMPONENT, _assert_same, interruptible  # noqa: E402
+
+from motoflex_ros.cli.output import to_jsonable  # noqa: E402
+from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
+from motoflex_ros.record import mcap_bag  # noqa: E402
+
+pytestmark = [pytest.mark.ros, pytest.mark.slow]
+
+
+def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
+    from motoflex_ros.bench.campaign import identify_components
+    with DomainLock() as free:
+        domain = free.domain_id
+    # hold the id shared (as a namespaced run does) so that no root-namespace run takes it
+    with DomainLock(domain_id=domain, namespace="/test_holder"):
+        env = dict(os.environ, TMPDIR=str(tmp_path), OPENBLAS_NUM_THREADS="1",
+                   ROS_DOMAIN_ID=str(domain))
+        runs = {ns: subprocess.Popen(
+            [sys.executable, "-m", "motoflex_ros.cli.main", "campaign", "--component",
+             COMPONENT, "--namespace", f"/{ns}", "--out", str(tmp_path / ns), "--report",
+             "none"], env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+            preexec_fn=interruptible) for ns in ("rig_a", "rig_b")}
+        outputs = {ns: proc.communicate(timeout=900) for ns, proc in runs.items()}
+    offline = {n: to_jsonable(r.identification.to_dict())
+               for n, (_, r) in identify_components([COMPONENT], seed=0).items()}
+    for ns, proc in runs.items():
+        _, err = outputs[ns]
+        assert proc.returncode == 0, err
+        said = re.search(r"ROS_DOMAIN_ID (\d+) \(from ROS_DOMAIN_ID\), namespace /(\w+)", err)
+        assert said and said.groups() == (str(domain), ns), err
+        _assert_same(json.loads((tmp_path / ns / "identification.json").read_text()), offline)
+        topics = {t.name for t in mcap_bag.bag_info(tmp_path / ns).topics}
+        assert f"/bench/{COMPONENT}/load" in topics and "/tf_static" in topics
+        assert not any(t.startswith(("/rig_a", "/rig_b")) for t in topics), topics
