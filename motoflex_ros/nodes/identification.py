@@ -21,8 +21,9 @@ keeps every message as it comes (asynchronous: any order across topics, any rate
 acknowledges nothing. A message on ``identify_topic`` (std_msgs/Empty), or ``idle_timeout_s``
 without input, identifies what has arrived (header stamps, the core's approximate-time
 matching, :func:`motoflex_ros.identify.measured.identify_measured`), publishes it on
-/identification/results and writes ``result_file``. Topic names default to
-/bench/<bench>/{load, markers/measured, identify} and can be set or remapped (``-r``).
+identification/results and writes ``result_file``. Topic names default to
+bench/<bench>/{load, markers/measured, identify} (relative: in the node's namespace) and can
+be set or remapped (``-r``).
 """
 import sys
 

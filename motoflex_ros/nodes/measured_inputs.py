@@ -27,9 +27,9 @@ MEASURED_PARAMS = (
     Param("bench_file", "", description="mode measured: the bench file (YAML: bench, "
                                         "loaded_end, markers, sensor)"),
     Param("load_topic", "", description="mode measured: the load cell's WrenchStamped topic "
-                                        "('': /bench/<bench>/load)"),
+                                        "('': bench/<bench>/load)"),
     Param("markers_topic", "", description="mode measured: the markers' topic ('': "
-                                           "/bench/<bench>/markers/measured; per-marker "
+                                           "bench/<bench>/markers/measured; per-marker "
                                            "messages on <topic>/m1, /m2, ...)"),
     Param("marker_msg", "PoseArray", choices=tuple(MARKER_MSGS),
           description="mode measured: the markers' message type"),
@@ -37,7 +37,7 @@ MEASURED_PARAMS = (
                                                "markers: from_data: how many (0: the bench "
                                                "file's)"),
     Param("identify_topic", "", description="mode measured: std_msgs/Empty asking for the "
-                                            "identification ('': /bench/<bench>/identify)"),
+                                            "identification ('': bench/<bench>/identify)"),
     Param("idle_timeout_s", 0.0, 0.0, 3600.0,
           description="mode measured: identify after this long without input [s] (0: only "
                       "when asked)"),
@@ -62,7 +62,7 @@ class MeasuredInputs:
                                  f"loaded_end, markers, sensor)")
         self.node = node
         self.bench = load_bench(params["bench_file"])
-        base = f"/bench/{self.bench.name}"
+        base = f"bench/{self.bench.name}"   # relative: in the node's namespace, as the rig's
         reliability = (ReliabilityPolicy.RELIABLE if params["qos"] == "reliable"
                        else ReliabilityPolicy.BEST_EFFORT)
         qos = QoSProfile(depth=1, history=HistoryPolicy.KEEP_ALL, reliability=reliability)
