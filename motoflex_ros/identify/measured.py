@@ -12,8 +12,11 @@ the virtual identification's (Passigato et al. 2023, Sect. 4.2; the same functio
 - static: l, beta, b (eqs. 1-7) of the mean pose at the held load, k by eq. (8), c = gamma k;
 - harmonic tests: per window of whole periods of the fitted load frequency, the sine fit of the
   pose and its two peaks (as the virtual identifier reads them), from the first window of a
-  steady response (load at full amplitude and the lateral amplitude settled within
-  RESPONSE_TOL of its final value); which one is the torsion and which the bending test: the
+  steady response: the load at full amplitude, at a resonance of a free-decay pole a further
+  4 / (zeta omega_n) (as the virtual protocols wait), and from the first window after which
+  neither beta nor b of the windows trends by more than one standard error of the slope (a
+  dying transient of another mode drifts the axis); which one is the torsion and which the
+  bending test: the
   deformation axis (within 45 deg of O-q0: torsion, as the model's modes are labelled), the
   test nearest a free-decay pole first;
 - omega_n, zeta (eq. 9) of the torsion and bending modes: from the measured free decay (matrix
@@ -295,7 +298,7 @@ def _resonance_wait(frequency_hz, poles):
     return wait
 
 
-def _harmonic_reading(name, kind, seg, windows, q0, frames_per_window):
+def _harmonic_reading(name, kind, seg, windows, q0):
     length = float(np.hypot(q0[0], q0[2]))
     mean = RunningMean(length, BAND_LENGTH_M, BAND_ANGLE_RAD, SETTLE_PEAKS)
     for _, w in windows:
@@ -485,7 +488,7 @@ def identify_measured(data, bench):
                                                           "response")
             report.append(entry)
             continue
-        reading = _harmonic_reading(seg.name, seg.kind, seg, windows, q0, None)
+        reading = _harmonic_reading(seg.name, seg.kind, seg, windows, q0)
         entry.update(used=True, windows=len(windows), t_read=windows[0][1].t0,
                      resonance_wait_s=wait)
         report.append(entry)
