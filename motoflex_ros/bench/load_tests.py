@@ -27,15 +27,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from motoflex_ros.bench.actuator import LoadActuator
+from motoflex_ros.bench.campaign import measure_motion
 from motoflex_ros.bench.response import ComponentSimulator
-from motoflex_ros.bench.sensor import MarkerSensor
 from motoflex_ros.errors import ModelError, ProtocolError
-from motoflex_ros.identify.identifier import Identifier
-from motoflex_ros.identify.peaks import axis_of_pose, unwrap_axis, wrap_axis
-from motoflex_ros.identify.results import AxisModel
-from motoflex_ros.identify.stiffness import static_damping
-from motoflex_ros.identify.uncertainty import interval, propagate
-from motoflex_ros.spatial import rotation_from_vector
+from motoflex_ros.identify.results import AxisModel, static_model
 
 __all__ = ["LoadTestResult", "lever_wrench", "load_arm", "load_test", "load_model",
            "LOAD_TESTS"]
@@ -62,30 +57,13 @@ def load_arm(axis, q0, wrench):
     return float(a @ (w[3:] + np.cross(q0 - joint, w[:3])))
 
 
-def _values(pose, force, q0, wrench, reference_beta):
-    axis = axis_of_pose(pose, q0)
-    beta, b = unwrap_axis(axis.beta, axis.b, reference_beta)
-    arm = load_arm(axis, q0, wrench)
-    return np.array([axis.l, beta, b, force * arm / np.arcsin(pose[1] / axis.b)])
-
-
 def load_model(reading, q0, wrench):
     """Model (l, beta, b, k, c with intervals) from a static reading under the load ``wrench``
-    per newton (module docstring)."""
-    pose = np.asarray(reading.pose, float)
-    beta0 = axis_of_pose(pose, q0).beta
-    scale_q = max(np.abs(pose[:3]).max(), 1e-12)
-    scale_r = max(np.abs(pose[3:]).max(), 1e-15)
-    steps = np.r_[np.full(3, 1e-6 * scale_q), np.full(3, 1e-6 * scale_r)]
-    values, cov = propagate(lambda p: _values(p, reading.force, q0, wrench, beta0), pose,
-                            reading.cov, steps)
-    names = ("l", "beta", "b", "k")
-    ci = {n: interval(v, cov[i, i]) for i, (n, v) in enumerate(zip(names, values))}
-    out = dict(zip(names, map(float, values)))
-    out["beta"], out["b"] = wrap_axis(out["beta"], out["b"])
-    out["c"] = static_damping(out["k"])
-    ci["c"] = [static_damping(x) for x in ci["k"]]
-    return AxisModel(out, ci, {"n_samples": reading.n_samples})
+    per newton (module docstring): eqs. (1)-(7) and k = F m / asin(y_q / b)."""
+    def stiffness(pose, axis, b):
+        return reading.force * load_arm(axis, q0, wrench) / np.arcsin(pose[1] / axis.b)
+
+    return static_model(reading, q0, stiffness)[0]
 
 
 @dataclass(frozen=True)
@@ -132,17 +110,11 @@ def load_test(setup, wrench, name, force_n=None, seed=0):
                             f"bench's linear range ({MAX_ROTATION_RAD} rad); lower the force")
     q0 = np.asarray(reduced.q0, float)
     actuator, simulator = LoadActuator(plan), ComponentSimulator(reduced, wrench)
-    sensor = MarkerSensor(setup.protocol.sensor, q0, seed)
-    identifier = Identifier(q0, setup.protocol.harmonic)
+    samples, motions = [], []
     while (sample := actuator.next_sample()) is not None:
-        motion = simulator.step(sample)
-        identifier.add_load(sample)
-        for m in sensor.capture(sample.index, sample.t, q0 + motion[:3],
-                                rotation_from_vector(motion[3:])):
-            identifier.add_measurement(m)
-    for m in sensor.flush():
-        identifier.add_measurement(m)
-    reading = identifier.readings()[name]
+        samples.append(sample)
+        motions.append(simulator.step(sample))
+    reading = measure_motion(replace(setup, plan=plan), samples, motions, seed)[name]
     model = load_model(reading, q0, wrench)
     if not model.values["k"] > 0:
         raise ProtocolError(f"{setup.protocol.source}: test '{name}' of {setup.name}: k = "
