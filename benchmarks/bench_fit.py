@@ -23,6 +23,7 @@ from pathlib import Path
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
+from bench_vehicle import best_time  # noqa: E402  (the same best-of timing)
 
 from motoflex_ros.cli.inputs import motorcycle_components, study_speeds  # noqa: E402
 from motoflex_ros.config import resolve_config  # noqa: E402
@@ -34,26 +35,16 @@ from motoflex_ros.vehicle.model import load_vehicle  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def best_of(repeats, function):
-    """Smallest wall time [s] of ``repeats`` calls."""
-    best = np.inf
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        best = min(best, time.perf_counter() - start)
-    return best
-
-
 def evaluation_costs(problem, hinges, speeds):
     """(continued in the hinge, over speed per run, batched eigvals) [s] of one evaluation."""
     x = problem.variables(hinges)
     problem.objective(x)                               # a nearby hinge in the cache
     steps = iter(range(10_000))
-    warm = best_of(20, lambda: problem.objective(x + 0.3 + 0.01 * next(steps)))
+    warm = best_time(lambda: problem.objective(x + 0.3 + 0.01 * next(steps)))
     pair = [problem.hinges(x + 0.3), problem.hinges(x)]
-    over = best_of(10, lambda: problem.errors(pair)) / 2
+    over = best_time(lambda: problem.errors(pair)) / 2
     e, a = problem.pencil.pencil([problem._vehicle_hinges(pair[0])], speeds)
-    eig = best_of(20, lambda: np.linalg.eigvals(np.linalg.solve(e[0], a[0])))
+    eig = best_time(lambda: np.linalg.eigvals(np.linalg.solve(e[0], a[0])))
     return warm, over, eig
 
 
