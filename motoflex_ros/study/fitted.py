@@ -5,23 +5,29 @@ hinge per component that the motorcycle itself asks for: the axis (in the compon
 plane), its position and the stiffness k (c = gamma k, gamma = 0.001 s, as the static models)
 that minimise
 
-    J = sum over weave f, weave Re, wobble f, wobble Re of e_RMS%^2   (eq. 18, 40-210 km/h)
+    J = sqrt(sum over weave f, weave Re, wobble f, wobble Re of e_RMS%^2)  [%]
+        (eq. 18 over the speeds given, the paper's 40-210 km/h)
 
 against the flexible motorcycle's weave and wobble, the rest of the lumped motorcycle being the
-static variant's (inertia distribution of Sect. 5.2). The search starts from the static
-identification and is a Nelder-Mead simplex (scipy) in the variables (beta / 2 deg, b / 1 cm,
-ln k / 0.1): beta the axis angle to O-q0, b the signed distance of the loaded end q0 from the
-axis ((L - l) sin beta, eq. 7), so that a step in one moves the axis without turning it or
-turns it about its point nearest q0. Every evaluation is cheap: the hinge motorcycle's pencils
-come from one linearization for any hinge (:class:`~motoflex_ros.study.hinge_pencil.
-HingePencil`), and weave and wobble are followed over speed by eigenpair continuation from the
-static motorcycle's (named by mode shape) (:mod:`motoflex_ros.study.continuation`).
+static variant's (inertia distribution of Sect. 5.2). The flexible reference is an input (the
+curves the accuracy study computes from its flexible motorcycle), so the fit follows that
+reference however it is built.
 
-The flexible reference is an input (the curves the accuracy study computes from its flexible
-motorcycle), so the fit follows that reference as it is built.
+Search: Nelder-Mead (scipy) from the static identification and from the best (as it is) of
+any other starts given (the accuracy study gives the road_load and vehicle_load hinges: from
+static alone the front assembly's search ends in a local minimum), each on about 12 of the
+speeds, with one restart; the best end point is polished on all speeds. The simplex variables
+are the hinge's compliance vector at q0 in the antisymmetric motions (u_y, theta_x, theta_z),
+v = (b, cos theta, sin theta) / sqrt(k), scaled by the static hinge's (steps of 1 cm, 2 deg
+and 10 % of k, in size); theta = theta_0 + beta is the axis direction, b the signed arm of q0
+((L - l) sin beta, eq. 7). Every evaluation is cheap: the hinge motorcycle's pencils come from
+one linearization for any hinge (:class:`~motoflex_ros.study.hinge_pencil.HingePencil`);
+weave and wobble are continued (:mod:`motoflex_ros.study.continuation`) in the hinge from the
+nearest hinge evaluated before, all speeds at once, or else over speed from the first speed,
+where they start from the static motorcycle's (named by mode shape by the engine).
 
-With several components ("all") the hinges are fitted jointly (one simplex over all their
-variables) starting from each component's own fit when given (else from static).
+With several components in ``names`` the hinges are fitted jointly (one simplex over all their
+variables); the accuracy study instead fits each on its own case (in turn).
 
 Conditioning of the optimum: e_RMS% with one of k +-10 %, the axis turned +-2 deg about its
 point nearest q0 (b kept), or the axis moved +-1 cm normal to itself in the symmetry plane
@@ -51,7 +57,8 @@ __all__ = ["Hinge", "HingeFit", "HingeFitProblem", "fit_hinges", "with_fitted", 
 
 FIT_QUANTITIES = ("weave_f", "weave_re", "wobble_f", "wobble_re")
 STEPS = {"beta": math.radians(2.0), "b": 0.01, "log_k": 0.1}
-"""Scales of the simplex variables (and its first steps): 2 deg, 1 cm, 10 % of k."""
+"""Scales of the simplex variables: 2 deg, 1 cm, 10 % of k (``space`` 'line': beta, b, ln k;
+'compliance': the compliance vector, module docstring)."""
 PERTURBATIONS = (("k -10%", "k", 0.9), ("k +10%", "k", 1.1),
                  ("axis -2 deg", "beta", -math.radians(2.0)),
                  ("axis +2 deg", "beta", math.radians(2.0)),
