@@ -1,6 +1,7 @@
 """The accuracy study (Sect. 5.2, eq. 18, Figs 8-9): lumped variants against the flexible
 motorcycle, end to end through ``motoflex study accuracy`` and through the core."""
 import json
+import math
 import subprocess
 import sys
 
@@ -15,6 +16,7 @@ from motoflex_ros.study.accuracy import rms_error_percent
 from motoflex_ros.study.lumped_accuracy import (
     ACCURACY_VARIANTS,
     CASES,
+    PAPER_VARIANTS,
     QUANTITIES,
     accuracy_study,
     mode_errors,
@@ -40,15 +42,31 @@ def motoflex(*args):
 
 @pytest.fixture(scope="module")
 def verb_run(identified_file, tmp_path_factory):
+    """The verb as a user runs it (text), with --details: (e_RMS table, plot folder, printed
+    text, per-component details)."""
     plots = tmp_path_factory.mktemp("plots")
-    result = motoflex("study", "accuracy", "--identified", str(identified_file), "--json",
-                      "--step-kmh", "10", "--plot", str(plots))
+    details = plots / "details.json"
+    result = motoflex("study", "accuracy", "--identified", str(identified_file), "--details",
+                      str(details), "--step-kmh", "10", "--plot", str(plots))
     assert result.returncode == 0, result.stderr
-    return json.loads(result.stdout), plots
+    data = json.loads(details.read_text())
+    return data["errors"], plots, result.stdout, data["components"]
+
+
+def test_accuracy_verb_json_is_the_table(verb_run, identified_file):
+    """--json prints the table of --details ({case: {variant: {quantity: %}}}), here for one
+    case (the cases are independent)."""
+    result = motoflex("study", "accuracy", "--identified", str(identified_file), "--json",
+                      "--step-kmh", "10", "--cases", "swingarm")
+    assert result.returncode == 0, result.stderr
+    table = json.loads(result.stdout)
+    assert set(table) == {"swingarm"}
+    for variant, values in table["swingarm"].items():
+        assert values == pytest.approx(verb_run[0]["swingarm"][variant], abs=1e-9), variant
 
 
 def test_accuracy_verb_end_to_end(verb_run):
-    table, plots = verb_run
+    table, plots, *_ = verb_run
     assert set(table) == set(CASES)
     for case in CASES:
         assert set(table[case]) == set(ACCURACY_VARIANTS)
@@ -104,9 +122,10 @@ static is lowest on both (40.97 vs 42.08 %, 40.92 vs 41.68 %)."""
         "not yet known"))),
 ])
 def test_published_static_lowest_error_in_every_case(verb_run, case):
-    """Sect. 5.2: the static model has the lowest e_RMS (sum of the four quantities) in each of
-    the four cases; within TIE of the lowest counts as lowest."""
-    totals = {v: sum(verb_run[0][case][v].values()) for v in ACCURACY_VARIANTS}
+    """Sect. 5.2: the static model has the lowest e_RMS (sum of the four quantities) of the
+    paper's four variants in each of the four cases; within TIE of the lowest counts as
+    lowest."""
+    totals = {v: sum(verb_run[0][case][v].values()) for v in PAPER_VARIANTS}
     assert totals["static"] <= min(totals.values()) * (1 + TIE), (case, totals)
 
 
@@ -161,3 +180,125 @@ def test_accuracy_verb_bad_input(tmp_path):
     result = motoflex("study", "accuracy", "--identified", str(partial))
     assert result.returncode == 2
     assert "front_assembly" in result.stderr or "frame.static" in result.stderr
+
+
+# -- beyond the paper (issue 14): the fitted, road_load and vehicle_load hinges -------------
+
+def _rss(values):
+    return math.sqrt(sum(v * v for v in values.values()))
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_fitted_hinge_within_2_percent_and_better_than_static(verb_run, case):
+    """The hinge fitted to the flexible motorcycle (for 'all' the three components' own,
+    unchanged) is within 2 % on each of the four quantities, its root sum of squares below
+    the static hinge's, and no quantity more than 0.1 %-points worse than static's."""
+    table = verb_run[0][case]
+    fitted, static = table["fitted"], table["static"]
+    assert max(fitted.values()) <= 2.0, fitted
+    assert _rss(fitted) < _rss(static), (fitted, static)
+    for quantity in QUANTITIES:
+        assert fitted[quantity] <= static[quantity] + 0.1, (quantity, fitted, static)
+
+
+def _printed_conditioning(text, component):
+    """The conditioning table printed after 'fitted <component>:' {change: [4 values]}."""
+    lines = text.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith(f"fitted {component}:"))
+    rows = {}
+    for line in lines[start + 4:]:
+        parts = line.split()
+        if len(parts) < 6:
+            break
+        rows[" ".join(parts[:-5])] = [float(v) for v in parts[-5:-1]]
+    return rows
+
+
+def test_conditioning_is_what_the_study_prints(verb_run, identified_file):
+    """The conditioning the verb prints is that of --details, and each entry is eq. 18 of the
+    lumped motorcycle with that one change, built and swept by the engine as the accuracy study
+    does (front assembly: the six changes)."""
+    from motoflex_ros.study.fitted import PERTURBATIONS, hinge_of, perturbed, with_fitted
+    from motoflex_ros.study.lumped_accuracy import _weave_wobble, flexible_reference
+    from motoflex_ros.study.variants import build_variant
+    from motoflex_ros.vehicle import lumped
+
+    _, _, text, components_details = verb_run
+    for component, entry in components_details.items():
+        reported = entry["fit"]["components"][component]["conditioning"]
+        printed = _printed_conditioning(text, component)
+        assert set(printed) == set(reported) | {"optimum"}
+        for label, values in reported.items():
+            assert printed[label] == pytest.approx([values[q] for q in QUANTITIES], abs=0.006)
+    component = "front_assembly"
+    vehicle = load_vehicle(config_path("vehicles", "touring"))
+    comps = {component: load_component(component)}
+    identified = json.loads(identified_file.read_text())
+    speeds = np.append(np.arange(40.0, 210.0, 10.0), 210.0) / 3.6
+    reference = flexible_reference(vehicle, comps, identified, [component], speeds)
+    fit = components_details[component]["fit"]
+    optimum = hinge_of(fit["components"][component]["fitted"])
+    site = lumped.site_of(comps[component])
+
+    class _One:
+        hinges = {}
+
+    for label, what, change in PERTURBATIONS:
+        _One.hinges = {component: perturbed(site, optimum, what, change)}
+        model = build_variant(vehicle, "fitted", [component], with_fitted(identified, [_One]),
+                              comps)
+        direct = mode_errors(_weave_wobble(model, speeds), reference, label)
+        assert direct == pytest.approx(fit["components"][component]["conditioning"][label],
+                                       abs=1e-4), label
+
+
+def _compliance_ratio(component, entry):
+    """(w . C_h . w) / (w . C . w): the fitted hinge's compliance under the wrench the
+    component carries in the flexible motorcycle's wobble against the clamped FE model's."""
+    from motoflex_ros.bench.load_tests import load_arm
+    from motoflex_ros.identify.axis import DeformationAxis
+    from motoflex_ros.vehicle import lumped
+
+    comp = load_component(component)
+    reduced = comp.clamped_reduced()
+    compliance = np.column_stack([reduced.static_end_motion(e) for e in np.eye(6)])
+    w = np.asarray(entry["vehicle_load"]["wrench_per_n"])
+    hinge = entry["fit"]["components"][component]["fitted"]
+    q0 = lumped.site_of(comp).q0
+    theta0 = math.atan2(q0[2], q0[0])
+    axis = DeformationAxis(hinge["l"], hinge["beta"], hinge["b"],
+                           hinge["l"] * math.cos(theta0), hinge["l"] * math.sin(theta0))
+    return load_arm(axis, q0, w) ** 2 / hinge["k"] / (w @ compliance @ w)
+
+
+@pytest.mark.parametrize("component", [
+    "frame", "front_assembly",
+    pytest.param("swingarm", marks=pytest.mark.xfail(strict=True, reason=(
+        "ours: 0.001 under the wobble wrench (the swingarm hardly takes part in the wobble) "
+        "and 0.15-0.21 under the weave wrench at 60-160 km/h: the fitted swingarm hinge (axis "
+        "101 deg to O-q0, 4 cm from q0, k 4.6e4 against static's 1.3e5) fits weave and wobble "
+        "without the FE model's compliance; the flexible swingarm is welded to the frozen "
+        "Paralever's main arm while the lumped hinge sits between wheel carrier and wheel")))])
+def test_fitted_hinge_has_the_fe_compliance_under_the_wobble_wrench(verb_run, component):
+    """The fitted hinge fits for a physical reason: under the wrench the component carries
+    in the flexible motorcycle's wobble (100 km/h) its compliance w . C_h . w is within 10 %
+    of the clamped FE model's w . C . w (C_h = s s^T / k, s the hinge's unit twist at q0)."""
+    ratio = _compliance_ratio(component, verb_run[3][component])
+    assert abs(ratio - 1.0) <= 0.10, ratio
+
+
+def test_vehicle_load_is_the_tyre_force_below_the_front_axle(verb_run):
+    """What the issue says the bench misses: in the wobble the front assembly carries a lateral
+    force acting about a wheel radius below the axle (M_x / F_y within 0.25-0.40 m), and the
+    vehicle_load hinge identified with that load carries it with the FE model's compliance
+    (within 1 %), the static hinge with a twentieth of it."""
+    entry = verb_run[3]["front_assembly"]
+    w = np.asarray(entry["vehicle_load"]["wrench_per_n"])
+    assert abs(w[1]) == pytest.approx(1.0, abs=0.05)
+    assert 0.25 <= w[3] / w[1] <= 0.40, w
+    vehicle_hinge = {**entry, "fit": {"components": {"front_assembly": {
+        "fitted": entry["vehicle_load"]}}}}
+    static_hinge = {**entry, "fit": {"components": {"front_assembly": {
+        "fitted": entry["fit"]["components"]["front_assembly"]["static"]}}}}
+    assert _compliance_ratio("front_assembly", vehicle_hinge) == pytest.approx(1.0, abs=0.01)
+    assert _compliance_ratio("front_assembly", static_hinge) < 0.1

@@ -6,8 +6,11 @@ frequencies (a number [Hz] or ``first torsion`` / ``first bending`` / ``first``,
 the component's modes; two of them named ``torsion`` and ``bending`` for the identification's
 models, others are extra tests), the frequency sweep (harmonic tests from ``start_hz`` to 5 Hz
 below the first eigenfrequency) and the modal test (release from a static preload, free
-decay). Every force is an amplitude at the loaded end [N]; choose it so that the deformation
-stays small (linear), as the paper does. Checks that need the component (ramp slow enough,
+decay), and, beyond the paper, ``road_load``: the quasi-static test with the force applied
+through a rigid lever (point and direction settable; default the tyre contact point of the
+vehicle's static configuration and a lateral force). Every force is an amplitude at the
+loaded end [N] (the road_load's at its lever point); choose it so that the deformation stays
+small (linear), as the paper does. Checks that need the component (ramp slow enough,
 frequencies below the sensor's Nyquist rate, sweep ending below the first eigenfrequency) are
 made when the protocol is planned for a component (:mod:`motoflex_ros.bench.plan`).
 """
@@ -28,9 +31,9 @@ from motoflex_ros.config import (
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.identify.results import MEASURED_KEY, MODEL_TESTS, RESULT_KEYS
 
-__all__ = ["StaticTest", "HarmonicSettings", "HarmonicTest", "SweepTest", "ModalTest",
-           "Protocol", "load_protocol", "protocol_for", "PROTOCOL_SCHEMA", "MODE_FREQUENCIES",
-           "MATCH_STATIC", "REQUIRED_HARMONIC_TESTS", "RESERVED_TEST_NAMES",
+__all__ = ["StaticTest", "RoadLoadTest", "HarmonicSettings", "HarmonicTest", "SweepTest",
+           "ModalTest", "Protocol", "load_protocol", "protocol_for", "PROTOCOL_SCHEMA",
+           "MODE_FREQUENCIES", "MATCH_STATIC", "REQUIRED_HARMONIC_TESTS", "RESERVED_TEST_NAMES",
            "MIN_MARKER_SPREAD_M"]
 
 MODE_FREQUENCIES = ("first", "first torsion", "first bending")
@@ -115,10 +118,19 @@ _MODAL = Field("mapping", required=False, default=None, fields={
     "samples_per_period": Field("int", 4, 1000, help="samples per period of the highest "
                                                      "target mode, 4..1000"),
 })
+_ROAD_LOAD = Field("mapping", required=False, default=None, fields={
+    "point_m": Field("vec3", -MAX_SIZE_M, MAX_SIZE_M, required=False, default=None,
+                     help="lever point, component frame [m] (default: the tyre contact point "
+                          "of the vehicle's static configuration)"),
+    "direction": Field("vec3", -1e3, 1e3, required=False, default=[0.0, 1.0, 0.0],
+                       help="force direction (normalised; default lateral, [0, 1, 0])"),
+    "force_n": number(*FORCE_N, required=False, default=None,
+                      help="force [N] (default: static.force_n)"),
+})
 PROTOCOL_SCHEMA = Field("mapping", fields={
     "description": Field("str", required=False, default=""),
     "sensor": _SENSOR, "static": _STATIC, "harmonic": _HARMONIC, "sweep": _SWEEP,
-    "modal": _MODAL,
+    "modal": _MODAL, "road_load": _ROAD_LOAD,
 })
 
 
@@ -179,6 +191,18 @@ class ModalTest:
 
 
 @dataclass(frozen=True)
+class RoadLoadTest:
+    """Quasi-static test loaded through a rigid lever (beyond the paper): the force force_n
+    [N] (None: the static test's) along ``direction`` (unit) at ``point_m`` [m] (component
+    frame; None: the tyre contact point of the vehicle's static configuration), the ramp and
+    hold of the static test."""
+
+    point_m: tuple = None
+    direction: tuple = (0.0, 1.0, 0.0)
+    force_n: float = None
+
+
+@dataclass(frozen=True)
 class Protocol:
     """A validated bench campaign; ``source`` is the file it came from."""
 
@@ -190,6 +214,7 @@ class Protocol:
     modal: ModalTest = None
     description: str = ""
     source: str = ""
+    road_load: RoadLoadTest = RoadLoadTest()
 
 
 def _check_amplitude(value, source, key):
@@ -279,6 +304,18 @@ def _harmonic_tests(specs, source):
     return tuple(tests)
 
 
+def _road_load(data, source):
+    if not data:
+        return RoadLoadTest()
+    direction = np.asarray(data["direction"], float)
+    norm = float(np.linalg.norm(direction))
+    if not norm > 1e-9:
+        raise ConfigError(source, "road_load.direction", "must not be the zero vector")
+    point = data["point_m"]
+    return RoadLoadTest(None if point is None else tuple(float(v) for v in point),
+                        tuple(float(v) for v in direction / norm), data["force_n"])
+
+
 def load_protocol(name_or_file):
     """Load and validate a protocol (shipped name or YAML path) into a :class:`Protocol`."""
     path = resolve_config("protocols", name_or_file)
@@ -289,7 +326,8 @@ def load_protocol(name_or_file):
                     harmonic=HarmonicSettings(**h), harmonic_tests=tests,
                     sweep=_sweep(data["sweep"], path),
                     modal=ModalTest(**data["modal"]) if data["modal"] else None,
-                    description=data["description"], source=str(path))
+                    description=data["description"], source=str(path),
+                    road_load=_road_load(data["road_load"], path))
 
 
 def protocol_for(component_name):

@@ -52,13 +52,16 @@ class Discretisation:
     gamma1: np.ndarray
 
 
-def lateral_state_space(reduced):
+def lateral_state_space(reduced, wrench=None):
     """State-space model of a ReducedComponent loaded by F_y [N] at its loaded end.
 
-    The F_y column of :func:`motoflex_ros.structures.clamped.state_space`.
+    The F_y column of :func:`motoflex_ros.structures.clamped.state_space`; with ``wrench``
+    (6,) [N/N, N m/N] the load is that wrench at q0 per newton of the commanded force instead
+    (a load through a lever, :mod:`motoflex_ros.bench.load_tests`).
     """
     a, b = state_space(reduced)
-    return StateSpace(a, b[:, LATERAL_FORCE], np.asarray(reduced.end_dofs))
+    column = b[:, LATERAL_FORCE] if wrench is None else b @ np.asarray(wrench, float)
+    return StateSpace(a, column, np.asarray(reduced.end_dofs))
 
 
 def discretise(system, dt, omega=0.0):
@@ -85,18 +88,23 @@ def discretise(system, dt, omega=0.0):
 class ComponentSimulator:
     """Stage object: steps the clamped reduced component under one load sample at a time.
 
-    Each test starts from rest (a bench waits for the structure to settle between tests), or,
+    The commanded force is F_y at the loaded end, or, with ``wrench`` (6,), that wrench at q0
+    per newton (a load applied through a rigid lever). Each test starts from rest (a bench
+    waits for the structure to settle between tests), or,
     for a ``preload`` phase, from static equilibrium under the preload. Harmonic and sweep
     samples are joined by the harmonic hold at their frequency, others by the first-order
     hold. :meth:`step` returns the loaded end's motion (u_x, u_y, u_z, theta_x, theta_y,
     theta_z) [m, rad].
     """
 
-    def __init__(self, reduced):
-        self.system = lateral_state_space(reduced)
+    def __init__(self, reduced, wrench=None):
+        self.system = lateral_state_space(reduced, wrench)
         self.K = np.asarray(reduced.K, float)
         self.unit_load = np.zeros(self.K.shape[0])
-        self.unit_load[reduced.end_dofs[LATERAL_FORCE]] = 1.0
+        if wrench is None:
+            self.unit_load[reduced.end_dofs[LATERAL_FORCE]] = 1.0
+        else:
+            self.unit_load[np.asarray(reduced.end_dofs)] = np.asarray(wrench, float)
         self.q0 = np.asarray(reduced.q0, float)
         self._cache = {}
         self.state = np.zeros(self.system.A.shape[0])

@@ -3,6 +3,7 @@
     motoflex study sensitivity [--levels 2] [--range-rel 0.10] [--scheduler ADDRESS|local]
                                [--identified FILE] [--nominal identified|table2]
                                [--vehicle touring] [--step-kmh 1] [--json] [--plot DIR]
+                               [--model lumped|flexible]
 
 ``sensitivity``: full factorial over the six stiffnesses of the decomposed lumped motorcycle
 (k_tf, k_bf, k_ta, k_ba, k_ts, k_bs) at +/- range around the nominal values, weave and wobble
@@ -12,6 +13,11 @@ ANOVA main-effect shares and Pearson coefficients (eqs. 16-17). --json prints {"
 not vary). --plot DIR writes the Fig. 10 bar chart and the runs' weave/wobble real parts.
 Without --identified the bench identification runs first (motoflex identify); --nominal table2
 takes k_t, k_b from the paper's Table 2 instead (axes still from the identification).
+--model flexible runs the same design on the flexible motorcycle (each factor scales the modal
+stiffness of its component's first torsion or bending mode of the clamped model,
+:mod:`motoflex_ros.study.flexible_sensitivity`; default 5 km/h steps) and the lumped study on
+the same speeds; --json adds "definition", "agreement" ({index: {factor: {"lumped",
+"flexible", "difference", "verdict"}}}) and "lumped" (the lumped study's JSON).
 """
 import argparse
 import sys
@@ -46,7 +52,11 @@ def _register_sensitivity(sub):
     add_study_inputs(p)
     p.add_argument("--nominal", choices=("identified", "table2"), default="identified",
                    help="nominal k_t, k_b: identified (default) or the paper's Table 2")
-    p.add_argument("--step-kmh", type=float, default=1.0, help="speed step [km/h] (default 1)")
+    p.add_argument("--step-kmh", type=float, default=None,
+                   help="speed step [km/h] (default 1; 5 with --model flexible)")
+    p.add_argument("--model", choices=("lumped", "flexible"), default="lumped",
+                   help="lumped: the decomposed lumped motorcycle (the paper's); flexible: the "
+                        "superelements' modal stiffnesses scaled, with the agreement table")
     p.add_argument("--json", action="store_true", help="print JSON only")
     p.add_argument("--plot", metavar="DIR", help="write the Fig. 10 bar chart and curves (PNG)")
     p.set_defaults(func=run_sensitivity_verb)
@@ -82,7 +92,7 @@ def _with_table2(identified):
     return with_stiffness(identified, PAPER_TABLE2_NOMINAL)
 
 
-def _print_tables(result, seconds, stream):
+def _print_tables(result, seconds, stream, unit="N m/rad"):
     rows = [[name, f"{idx.s.min():.4f}", f"{idx.s.mean():.4f}", f"{idx.s.max():.4f}",
              f"{result.anova_main_share[name]:.4f}"] for name, idx in result.indices.items()]
     print_table(["index", "s min", "s mean", "s max", "ANOVA main share"], rows, stream)
@@ -91,7 +101,7 @@ def _print_tables(result, seconds, stream):
     print_table(["index"] + factors,
                 [[name] + [f"{result.pearson[name][f]:+.3f}" for f in factors]
                  for name in result.indices], stream)
-    stream.write("\nnominal [N m/rad]: " + ", ".join(f"{f} {k:.4g}" for f, k in
+    stream.write(f"\nnominal [{unit}]: " + ", ".join(f"{f} {k:.4g}" for f, k in
                                                       result.nominal.items()) + "\n")
     stream.write(f"{len(next(iter(result.indices.values())).s)} runs in {seconds:.2f} s\n")
 
@@ -107,6 +117,46 @@ def _plots(result, run_outputs, speeds, directory):
     return written
 
 
+def agreement(lumped, flexible, negligible=0.05):
+    """{index: {factor: {"lumped", "flexible", "difference", "verdict"}}}: Pearson coefficients
+    of the lumped and the flexible study side by side; verdict 'same sign', 'opposite' or
+    'negligible' (both below ``negligible`` in size)."""
+    out = {}
+    for index, row in flexible.pearson.items():
+        out[index] = {}
+        for factor, rho_f in row.items():
+            rho_l = lumped.pearson[index][factor]
+            if max(abs(rho_l), abs(rho_f)) < negligible:
+                verdict = "negligible"
+            else:
+                verdict = "same sign" if rho_l * rho_f > 0 else "opposite"
+            out[index][factor] = {"lumped": float(rho_l), "flexible": float(rho_f),
+                                  "difference": float(rho_f - rho_l), "verdict": verdict}
+    return out
+
+
+def _flexible_output(args, result, lumped, study_run, speeds):
+    from motoflex_ros.study.flexible_sensitivity import MODAL_STIFFNESS
+
+    table = agreement(lumped, result)
+    if args.plot:
+        written = _plots(result, study_run.outputs, speeds, args.plot)
+        if not args.json:
+            print("wrote " + ", ".join(str(p) for p in written), file=sys.stderr)
+    if args.json:
+        emit_json({**result.to_dict(), "definition": MODAL_STIFFNESS, "agreement": table,
+                   "lumped": lumped.to_dict()})
+        return 0
+    sys.stdout.write(MODAL_STIFFNESS + "\n\n")
+    _print_tables(result, study_run.seconds, sys.stdout, unit="scale of the modal stiffness")
+    sys.stdout.write("\nAgreement with the lumped (decomposed) study on the same speeds\n")
+    print_table(["index", "factor", "lumped rho", "flexible rho", "difference", "verdict"],
+                [[index, factor, f"{v['lumped']:+.3f}", f"{v['flexible']:+.3f}",
+                  f"{v['difference']:+.3f}", v["verdict"]]
+                 for index, row in table.items() for factor, v in row.items()], sys.stdout)
+    return 0
+
+
 def run_sensitivity_verb(args):
     """``motoflex study sensitivity``; returns the exit code."""
     from motoflex_ros.structures.components import load_component
@@ -116,7 +166,9 @@ def run_sensitivity_verb(args):
     from motoflex_ros.vehicle.model import load_vehicle
 
     full_factorial(PAPER_TABLE2_NOMINAL, args.levels, args.rel_range)  # check before the work
-    speeds = study_speeds(args.step_kmh, 10.0)
+    step = args.step_kmh if args.step_kmh is not None else (5.0 if args.model == "flexible"
+                                                            else 1.0)
+    speeds = study_speeds(step, 10.0)
     vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
     identified = identification_results(args.identified)
     if args.nominal == "table2":
@@ -126,8 +178,17 @@ def run_sensitivity_verb(args):
     try:
         result, study_run = run_sensitivity(setup.study, setup.nominal, speeds, args.levels,
                                             args.rel_range, args.scheduler, progress=True)
+        if args.model == "flexible":
+            from motoflex_ros.study.flexible_sensitivity import flexible_study
+            lumped = result
+            flexible = flexible_study(vehicle, components, identified, speeds)
+            result, study_run = run_sensitivity(flexible.study, flexible.nominal, speeds,
+                                                args.levels, args.rel_range, args.scheduler,
+                                                progress=True)
     except OSError as exc:  # includes connection and timeout errors of the Dask client
         raise ConfigError(_ARGS, "--scheduler", f"cannot use {args.scheduler}: {exc}") from None
+    if args.model == "flexible":
+        return _flexible_output(args, result, lumped, study_run, speeds)
     if args.plot:
         written = _plots(result, study_run.outputs, speeds, args.plot)
         if not args.json:

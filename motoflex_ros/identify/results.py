@@ -125,11 +125,22 @@ def _pose_steps(pose):
     return np.r_[np.full(3, 1e-6 * scale_q), np.full(3, 1e-6 * scale_r)]
 
 
-def static_model(reading, q0):
-    """Static model (eqs. 1-8, c = gamma k) with intervals; also returns cov of (l, beta, b, k)."""
+def static_model(reading, q0, stiffness=None):
+    """Static model (eqs. 1-8, c = gamma k) with intervals; also returns cov of (l, beta, b, k).
+
+    ``stiffness`` (optional): ``f(pose, axis, b) -> k`` [N m/rad] in place of eq. (8) (e.g. a
+    load through a lever, :mod:`motoflex_ros.bench.load_tests`); ``axis`` the pose's
+    DeformationAxis, ``b`` its arm as unwrapped here.
+    """
     beta0 = axis_of_pose(reading.pose, q0).beta
-    values, cov = propagate(lambda p: _static_values(p, reading.force, q0, beta0),
-                            reading.pose, reading.cov, _pose_steps(reading.pose))
+    if stiffness is None:
+        func = lambda p: _static_values(p, reading.force, q0, beta0)  # noqa: E731
+    else:
+        def func(p):
+            axis = axis_of_pose(p, q0)
+            beta, b = unwrap_axis(axis.beta, axis.b, beta0)
+            return np.array([axis.l, beta, b, stiffness(p, axis, b)])
+    values, cov = propagate(func, reading.pose, reading.cov, _pose_steps(reading.pose))
     names = ("l", "beta", "b", "k")
     ci = {n: interval(v, cov[i, i]) for i, (n, v) in enumerate(zip(names, values))}
     values = dict(zip(names, map(float, values)))

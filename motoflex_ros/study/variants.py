@@ -4,7 +4,10 @@
 of the paper's variants with the flexibility of the components ``names`` (a subset of frame,
 front_assembly, swingarm): ``rigid``, ``flexible`` (Craig-Bampton superelements,
 :mod:`motoflex_ros.vehicle.superelement`), the lumped ``state_of_the_art``, ``static``,
-``torsion``, ``bending`` and ``decomposed`` models (:mod:`motoflex_ros.vehicle.lumped`).
+``torsion``, ``bending`` and ``decomposed`` models (:mod:`motoflex_ros.vehicle.lumped`), and
+the single hinges of ``HINGE_VARIANTS`` (``fitted``, ``road_load``, ``vehicle_load``: a
+static-like model whose l, beta, k the results carry under that name, e.g. from
+:meth:`motoflex_ros.study.fitted.HingeFit.identified`).
 ``identified`` is the identification of the bench campaign (the JSON of ``motoflex identify``);
 ``components`` maps a component name to its structures Component (placement, loaded end, the
 clamped finite-element model for the state-of-the-art static test). This is where
@@ -17,7 +20,7 @@ from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.results import results_source
 from motoflex_ros.identify.stiffness import GAMMA_S
 from motoflex_ros.vehicle import lumped
-from motoflex_ros.vehicle.lumped import VARIANTS, FlexJoint, axis_in_vehicle
+from motoflex_ros.vehicle.lumped import HINGE_VARIANTS, VARIANTS, FlexJoint, axis_in_vehicle
 from motoflex_ros.vehicle.superelement import superelement_of
 from motoflex_ros.vehicle.variants import FLEX_CHOICES, flexible_vehicle
 
@@ -113,8 +116,8 @@ def flex_joints(variant, component, identified, site, sota=None):
     if variant == "state_of_the_art":
         point, axis, k = sota
         return (FlexJoint(name, np.asarray(point, float), np.asarray(axis, float), k, GAMMA * k),)
-    if variant == "static":
-        get = lambda *keys: _need(identified, component, "static", *keys)  # noqa: E731
+    if variant == "static" or variant in HINGE_VARIANTS:
+        get = lambda *keys: _need(identified, component, variant, *keys)  # noqa: E731
         point, axis = axis_in_vehicle(site, get("l"), get("beta"))
         return (FlexJoint(name, point, axis, get("k"), GAMMA * get("k")),)
     if variant in ("torsion", "bending"):
@@ -130,7 +133,8 @@ def flex_joints(variant, component, identified, site, sota=None):
             k = _need(identified, component, key)
             joints.append(FlexJoint(f"{component}_{test}", point, axis, k, GAMMA * k))
         return tuple(joints)
-    raise ConfigError("--flex", "variant", f"'{variant}' is not one of: {', '.join(VARIANTS)}")
+    raise ConfigError("--flex", "variant", f"'{variant}' is not one of: "
+                                           f"{', '.join(VARIANTS + HINGE_VARIANTS)}")
 
 
 def _steer_axis(vehicle):
@@ -140,9 +144,9 @@ def _steer_axis(vehicle):
 
 def build_variant(vehicle, variant, names, identified, components):
     """VehicleModel of ``variant`` with the lumped flexibility of the components ``names``."""
-    if variant not in FLEX_CHOICES:
+    if variant not in FLEX_CHOICES + HINGE_VARIANTS:
         raise ConfigError("--flex", "variant", f"'{variant}' is not one of: "
-                                               f"{', '.join(FLEX_CHOICES)}")
+                                               f"{', '.join(FLEX_CHOICES + HINGE_VARIANTS)}")
     if variant == "rigid":
         return vehicle
     if variant == "flexible":

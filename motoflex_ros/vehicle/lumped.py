@@ -23,6 +23,10 @@ torsion, bending     harmonic test at the first torsion/bending    J (eq. 10) ab
                      frequency; c from eq. (11)                    taken from the donor
 decomposed           two joints in series: torsion axis with k_t   as static
                      and bending axis with k_b (eq. 12)
+fitted, road_load,   one joint as static, its l, beta, k found     as static
+vehicle_load         otherwise (``HINGE_VARIANTS``: beyond the
+                     paper, :mod:`motoflex_ros.study.fitted` and
+                     the bench tests loaded as in the vehicle)
 ===================  ===========================================  ===========================
 
 Static models get c = gamma k with gamma = 0.001 s (Sect. 5.2.4). The identified inertia J
@@ -48,9 +52,14 @@ from motoflex_ros.vehicle.model import Body, Joint, composite_inertia
 
 __all__ = ["VARIANTS", "COMPONENTS", "FlexJoint", "ComponentSite", "site_of", "axis_in_vehicle",
            "state_of_the_art_axis", "check_site", "reattach", "lumped_vehicle", "mass_properties",
-           "MOUNTS", "SUPERELEMENT_PARENT", "SUPERELEMENT_FOLLOWS", "NEW_BODY"]
+           "MOUNTS", "SUPERELEMENT_PARENT", "SUPERELEMENT_FOLLOWS", "NEW_BODY",
+           "HINGE_VARIANTS"]
 
 VARIANTS = ("rigid", "state_of_the_art", "static", "torsion", "bending", "decomposed")
+HINGE_VARIANTS = ("fitted", "road_load", "vehicle_load")
+"""Single hinges as the static model's (c = gamma k, same inertia distribution) whose l, beta
+and k come from elsewhere than the paper's static test: fitted to the flexible motorcycle,
+or identified from a bench test loaded as the road (or the vehicle) loads the component."""
 COMPONENTS = MOTORCYCLE_COMPONENTS
 
 MOUNTS = {
@@ -297,9 +306,9 @@ def lumped_vehicle(model, variant, joints_by_component):
     FlexJoint tuple (:func:`flex_joints`). ``variant`` decides the inertia distribution.
     Returns a new VehicleModel; total mass, centre of mass and inertia are unchanged.
     """
-    if variant not in VARIANTS:
+    if variant not in VARIANTS + HINGE_VARIANTS:
         raise ConfigError("--flex", "variant", f"'{variant}' is not one of: "
-                                               f"{', '.join(VARIANTS)}")
+                                               f"{', '.join(VARIANTS + HINGE_VARIANTS)}")
     if variant == "rigid" or not joints_by_component:
         return model
     bodies = {b.name: b for b in model.bodies}
