@@ -71,7 +71,7 @@ class ComponentSimulatorNode(RigNode):
         setup = self.setups[component]
         q0 = np.asarray(setup.reduced.q0, float)
         offsets = np.asarray(setup.protocol.sensor.markers, float)
-        checked = BenchInputs(component, setup.plan.load_limit_n)
+        checked = BenchInputs(component, setup.plan.load_limit_n, self.get_namespace())
 
         def handle(phase, inputs):
             if "load" not in inputs:

@@ -131,7 +131,8 @@ class IdentificationNode(RigNode):
         self.fitters = {c: MarkerSensor(s.protocol.sensor, s.reduced.q0)
                         for c, s in self.setups.items()}
         self.count = dict.fromkeys(self.setups, 0)
-        self.checked = {c: BenchInputs(c, s.plan.load_limit_n) for c, s in self.setups.items()}
+        self.checked = {c: BenchInputs(c, s.plan.load_limit_n, self.get_namespace())
+                        for c, s in self.setups.items()}
         self.results = {}
         self.unacked = {}
         self.ack_pub = self.advertise(KeyValue, ACK_TOPIC)

@@ -48,15 +48,17 @@ class _TopicCheck:
 
 class BenchInputs:
     """Checked readers of one component's bench messages (serialized CDR, as the nodes take
-    them); ``load_limit_n`` [N] is the largest |F_y| accepted."""
+    them); ``load_limit_n`` [N] is the largest |F_y| accepted; messages name the topic as
+    resolved in the node's ``namespace`` (/bench/<c>/load, or /rig_a/bench/<c>/load)."""
 
-    def __init__(self, component, load_limit_n):
+    def __init__(self, component, load_limit_n, namespace="/"):
         self.component = component
         self.load_limit_n = float(load_limit_n)
+        self.prefix = namespace.rstrip("/") + "/"
         self._topics = {}
 
     def _topic(self, leaf):
-        name = topic(self.component, leaf)
+        name = self.prefix + topic(self.component, leaf)
         return self._topics.get(name) or self._topics.setdefault(name, _TopicCheck(name))
 
     def load(self, data):
