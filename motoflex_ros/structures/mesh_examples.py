@@ -1,0 +1,155 @@
+"""Volume meshes made here, for verification and benchmarks: a box cantilever of any element type
+(scikit-fem's structured mesh constructors) written with meshio in every format the mesh
+reader takes, with its node sets in each format's own way.
+
+Sets per format (what :mod:`motoflex_ros.structures.mesh_file` reads): Gmsh 2.2 physical groups
+(surface elements of the linear meshes, physical points of the quadratic ones), Abaqus
+``*NSET``, Nastran ``SET1`` cards (named by number: the i-th set is ``str(i + 1)``), VTK point
+data flags.
+"""
+from pathlib import Path
+
+import numpy as np
+
+from motoflex_ros.structures.solid import _VTK_REFERENCE, CORNERS
+
+__all__ = ["box_mesh", "write_mesh", "FORMATS", "set_names"]
+
+FORMATS = (".msh", ".inp", ".bdf", ".vtu")
+
+
+def _mirror_order(cell_type):
+    """Node permutation that mirrors an element (reverses its orientation): y -> 1 - y in the
+    reference element, or x <-> y for a tetrahedron."""
+    ref = _VTK_REFERENCE[cell_type]
+    if cell_type.startswith("tetra"):
+        mirrored = ref[:, [1, 0, 2]]
+    else:
+        mirrored = ref * [1, -1, 1] + [0, 1, 0]
+    return np.array([int(np.argmin(np.linalg.norm(ref - m, axis=1))) for m in mirrored])
+
+
+def _orient(points, cell_type, cells):
+    """Cells renumbered so that every element has a positive volume (VTK convention)."""
+    corners = points[cells[:, :CORNERS[cell_type]]]
+    if cell_type.startswith("tetra"):
+        a, b, c = (corners[:, i] - corners[:, 0] for i in (1, 2, 3))
+    else:
+        a, b, c = (corners[:, i] - corners[:, 0] for i in (1, 3, 4))
+    negative = np.einsum("ei,ei->e", np.cross(a, b), c) < 0
+    out = cells.copy()
+    out[negative] = cells[negative][:, _mirror_order(cell_type)]
+    return out
+
+
+def box_mesh(length, width, height, divisions, cell_type="tetra10"):
+    """A box [0, length] x [-width/2, width/2] x [-height/2, height/2] [m] of ``cell_type``
+    elements on a structured grid of ``divisions`` = (n_x, n_y, n_z) cells.
+
+    Returns (points (n, 3), cells (n_e, n_nodes) in VTK order, positively oriented); a
+    tetrahedral grid splits each hexahedral cell into tetrahedra (scikit-fem's MeshTet1).
+    """
+    import skfem
+    from skfem.io.meshio import to_meshio
+    nx, ny, nz = divisions
+    axes = (np.linspace(0.0, length, nx + 1), np.linspace(-width / 2, width / 2, ny + 1),
+            np.linspace(-height / 2, height / 2, nz + 1))
+    if cell_type in ("tetra", "tetra10"):
+        mesh = skfem.MeshTet1.init_tensor(*axes)
+        if cell_type == "tetra10":
+            mesh = skfem.MeshTet2.from_mesh(mesh)
+    elif cell_type in ("hexahedron", "hexahedron20", "hexahedron27"):
+        mesh = skfem.MeshHex1.init_tensor(*axes)
+        if cell_type != "hexahedron":
+            mesh = skfem.MeshHex2.from_mesh(mesh)
+    else:
+        raise ValueError(f"no box mesh of {cell_type}")
+    out = to_meshio(mesh)
+    points = np.asarray(out.points, float)
+    cells = np.asarray(out.cells[0].data)
+    base = "hexahedron27" if cell_type == "hexahedron20" else cell_type
+    cells = _orient(points, base, cells)
+    if cell_type == "hexahedron20":   # the 20 first nodes of a hexahedron27 are a hexahedron20
+        cells = cells[:, :20]
+        used = np.unique(cells)
+        compact = -np.ones(len(points), int)
+        compact[used] = np.arange(len(used))
+        points, cells = points[used], compact[cells]
+    return points, cells
+
+
+def set_names(suffix, names):
+    """The names the sets ``names`` get in a file of ``suffix`` (Nastran: '1', '2', ...)."""
+    if suffix == ".bdf":
+        return {n: str(i + 1) for i, n in enumerate(names)}
+    return {n: n for n in names}
+
+
+def _gmsh_faces(points, cells, cell_type, nodes):
+    """Surface elements (type, array) of the element faces whose corners are all in ``nodes``."""
+    inside = np.zeros(len(points), bool)
+    inside[nodes] = True
+    if cell_type == "tetra":
+        local, face_type = [(0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)], "triangle"
+    else:
+        local, face_type = [(0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5),
+                            (2, 3, 7, 6), (3, 0, 4, 7)], "quad"
+    faces = np.vstack([cells[:, list(f)] for f in local])
+    faces = faces[np.all(inside[faces], axis=1)]
+    return face_type, np.unique(faces, axis=0)
+
+
+def write_mesh(path, points, cells, cell_type, sets, units="m"):
+    """Write the mesh and its node sets ``sets`` {name: node indices} to ``path`` (a suffix of
+    :data:`FORMATS`); ``units`` 'mm' writes the coordinates in mm. Returns the set names as the
+    file knows them (:func:`set_names`)."""
+    import meshio
+    path = Path(path)
+    suffix = path.suffix.lower()
+    scale = 1e3 if units == "mm" else 1.0
+    pts = np.asarray(points, float) * scale
+    names = set_names(suffix, list(sets))
+    if suffix == ".msh":
+        blocks = [(cell_type, cells)]
+        tags = [np.full(len(cells), 100)]
+        field_data = {"volume": np.array([100, 3])}
+        for i, (name, nodes) in enumerate(sets.items()):
+            if cell_type in ("tetra", "hexahedron"):
+                face_type, faces = _gmsh_faces(pts, cells, cell_type, nodes)
+                dim = 2
+            else:
+                face_type, faces, dim = "vertex", np.asarray(nodes, int)[:, None], 0
+            blocks.append((face_type, faces))
+            tags.append(np.full(len(faces), i + 1))
+            field_data[name] = np.array([i + 1, dim])
+        mesh = meshio.Mesh(pts, blocks, cell_data={"gmsh:physical": tags,
+                                                   "gmsh:geometrical": tags},
+                           field_data=field_data)
+        meshio.write(str(path), mesh, file_format="gmsh22", binary=False)
+    elif suffix == ".inp":
+        meshio.write(str(path), meshio.Mesh(pts, [(cell_type, cells)],
+                                            point_sets={n: np.asarray(v) for n, v in
+                                                        sets.items()}))
+    elif suffix == ".bdf":
+        meshio.write(str(path), meshio.Mesh(pts, [(cell_type, cells)]), file_format="nastran")
+        text = path.read_text()
+        cards = []
+        for name, nodes in sets.items():
+            ids = [str(int(i) + 1) for i in nodes]   # meshio writes GRID ids from 1
+            fields = ["SET1", names[name]] + ids
+            cards.append(",".join(fields[:9]))
+            rest = fields[9:]
+            while rest:
+                cards.append("+," + ",".join(rest[:8]))
+                rest = rest[8:]
+        path.write_text(text.replace("ENDDATA", "\n".join(cards) + "\nENDDATA"))
+    elif suffix == ".vtu":
+        flags = {}
+        for name, nodes in sets.items():
+            flag = np.zeros(len(pts), np.int32)
+            flag[np.asarray(nodes, int)] = 1
+            flags[name] = flag
+        meshio.write(str(path), meshio.Mesh(pts, [(cell_type, cells)], point_data=flags))
+    else:
+        raise ValueError(f"no writer for {suffix}")
+    return names
