@@ -13,7 +13,7 @@ import numpy as np
 
 from motoflex_ros.structures.solid import _VTK_REFERENCE, CORNERS
 
-__all__ = ["box_mesh", "write_mesh", "FORMATS", "set_names"]
+__all__ = ["box_mesh", "tube_mesh", "write_mesh", "FORMATS", "set_names"]
 
 FORMATS = (".msh", ".inp", ".bdf", ".vtu")
 
@@ -76,6 +76,43 @@ def box_mesh(length, width, height, divisions, cell_type="tetra10"):
         compact[used] = np.arange(len(used))
         points, cells = points[used], compact[cells]
     return points, cells
+
+
+def _merge_coincident(points, cells, tol):
+    """Points closer than ``tol`` merged into one (the seam of a closed tube)."""
+    from scipy.spatial import cKDTree
+    pairs = cKDTree(points).query_pairs(tol, output_type="ndarray")
+    target = np.arange(len(points))
+    for i, j in sorted(map(tuple, np.sort(pairs, axis=1)), reverse=True):
+        target[j] = target[i]
+    used, compact = np.unique(target, return_inverse=True)
+    return points[used], compact[cells]
+
+
+def tube_mesh(length, outer_diameter, wall, divisions, cell_type="hexahedron20"):
+    """A circular tube along x from 0 to ``length`` [m] of ``cell_type`` elements on a
+    structured grid of ``divisions`` = (along, around, through the wall).
+
+    The grid of the box (x, angle, radius) is mapped onto the tube, node by node, so the
+    midside nodes of quadratic elements lie on the circles (curved, isoparametric elements).
+    """
+    n_x, n_phi, n_r = divisions
+    r_out = outer_diameter / 2
+    points, cells = box_mesh(1.0, 1.0, 1.0, (n_x, n_phi, n_r), cell_type)
+    s_x, s_phi, s_r = points[:, 0], points[:, 1] + 0.5, points[:, 2] + 0.5
+    phi = 2 * np.pi * s_phi
+    radius = r_out - wall + wall * s_r
+    mapped = np.column_stack([length * s_x, radius * np.cos(phi), radius * np.sin(phi)])
+    mapped, cells = _merge_coincident(mapped, cells, 1e-9 * outer_diameter)
+    if cell_type == "hexahedron20":
+        return mapped, _orient20(mapped, cells)
+    return mapped, _orient(mapped, cell_type, cells)
+
+
+def _orient20(points, cells):
+    """_orient for hexahedron20 cells (mirrored as the first 20 nodes of a hexahedron27)."""
+    full = np.column_stack([cells, np.zeros((len(cells), 7), int)])
+    return _orient(points, "hexahedron27", full)[:, :20]
 
 
 def set_names(suffix, names):
