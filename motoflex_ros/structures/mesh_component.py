@@ -338,10 +338,10 @@ def load_mesh_component(cfg, path, damping_ratio):
                 f"the mesh {mesh_path} ({len(data.points)} nodes)")
     extent = float(np.ptp(data.points, axis=0).max())
     if extent > COMPONENT_SIZE_M:
-        raise ConfigError(source, "mesh.units", f"the mesh {mesh_path} spans {extent:g} m in "
-                                                f"{spec['units']}, more than "
-                                                f"{COMPONENT_SIZE_M:g} m: are its coordinates "
-                                                "in mm?")
+        raise ConfigError(source, "mesh.units", f"the mesh {mesh_path} read in "
+                                                f"{spec['units']} spans {extent:g} m, more "
+                                                f"than {COMPONENT_SIZE_M:g} m: are its "
+                                                "coordinates in mm?")
     rot = plane_rotation(normal)
     origin = np.asarray(spec["origin"], float) * scale
 

@@ -13,7 +13,8 @@ import numpy as np
 
 from motoflex_ros.structures.solid import _VTK_REFERENCE, CORNERS
 
-__all__ = ["box_mesh", "tube_mesh", "write_mesh", "FORMATS", "set_names"]
+__all__ = ["box_mesh", "tube_mesh", "bracket_mesh", "bracket_sets", "keep_cells",
+           "write_bracket_component", "write_mesh", "FORMATS", "set_names"]
 
 FORMATS = (".msh", ".inp", ".bdf", ".vtu")
 
@@ -113,6 +114,66 @@ def _orient20(points, cells):
     """_orient for hexahedron20 cells (mirrored as the first 20 nodes of a hexahedron27)."""
     full = np.column_stack([cells, np.zeros((len(cells), 7), int)])
     return _orient(points, "hexahedron27", full)[:, :20]
+
+
+def keep_cells(points, cells, cell_type, inside):
+    """The elements whose centroid (of the corners) satisfies ``inside(xyz (n, 3)) -> bool``,
+    with the nodes they use (compacted)."""
+    centroids = points[cells[:, :CORNERS[cell_type]]].mean(axis=1)
+    cells = cells[inside(centroids)]
+    used = np.unique(cells)
+    compact = -np.ones(len(points), int)
+    compact[used] = np.arange(len(used))
+    return points[used], compact[cells]
+
+
+BRACKET = {"arm": 0.5, "drop": 0.16, "section": 0.04}
+"""The L bracket [m]: an arm along x from the clamp at x = 0, a leg dropping from its far end to
+the loaded end; square solid section."""
+
+
+def bracket_mesh(cell_type="hexahedron20", size=0.02, arm=BRACKET["arm"],
+                 drop=BRACKET["drop"], section=BRACKET["section"]):
+    """An L bracket like a single-sided swingarm: a lateral force at the foot of the leg bends
+    the arm and twists it, so the bench sees torsion and bending (both below 600 Hz in
+    aluminium). Structured elements of edge ``size`` [m]; sets: :func:`bracket_sets`."""
+    half = section / 2
+    n = (round(arm / size), round(section / size), round((drop + section) / size))
+    points, cells = box_mesh(arm, section, drop + section, n, cell_type)
+    points = points + [0.0, 0.0, half - (drop + section) / 2]   # arm's axis on z = 0
+
+    def inside(c):
+        return (c[:, 2] > -half) | (c[:, 0] > arm - section)
+
+    return keep_cells(points, cells, cell_type, inside)
+
+
+def bracket_sets(points, drop=BRACKET["drop"], section=BRACKET["section"]):
+    """{'clamp': the face x = 0, 'axle': the leg's foot} node indices of a bracket mesh."""
+    bottom = -(drop + section / 2)
+    return {"clamp": np.flatnonzero(np.isclose(points[:, 0], 0.0)),
+            "axle": np.flatnonzero(np.isclose(points[:, 2], bottom))}
+
+
+def write_bracket_component(directory, cell_type="hexahedron20", suffix=".msh", size=0.02,
+                            name="bracket"):
+    """Write an aluminium bracket mesh and its ``component: mesh`` YAML into ``directory``;
+    returns the YAML's path. ``size`` 0.02 m: 2,919 DOFs in hexahedron20, bending 87 Hz,
+    torsion 318 Hz."""
+    import yaml
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    points, cells = bracket_mesh(cell_type, size)
+    mesh_file = directory / f"{name}{suffix}"
+    names = write_mesh(mesh_file, points, cells, cell_type, bracket_sets(points))
+    path = directory / f"{name}.yaml"
+    path.write_text(yaml.safe_dump({
+        "component": "mesh", "name": name,
+        "description": "L bracket (single-sided swingarm-like), clamped at x = 0",
+        "mesh": {"file": mesh_file.name, "units": "m", "clamps": [names["clamp"]],
+                 "loaded_end": names["axle"]},
+        "material": {"E": 7.0e10, "nu": 0.33, "rho": 2700.0}}, sort_keys=False))
+    return path
 
 
 def set_names(suffix, names):

@@ -194,7 +194,8 @@ def read_mesh(path, units, yaml_source, key="mesh.file"):
     if unsupported:
         count = sum(len(c.data) for c in mesh.cells if c.type in unsupported)
         raise ConfigError(yaml_source, key, f"{path}: unsupported element type "
-                                            f"{', '.join(unsupported)} ({count} elements); "
+                                            f"{', '.join(unsupported)} ({count} element"
+                                            f"{'s' if count != 1 else ''}); "
                                             f"supported volume elements: "
                                             f"{', '.join(SOLID_TYPES)}")
     volume = [(i, c) for i, c in enumerate(mesh.cells) if c.type in SOLID_TYPES]
