@@ -26,8 +26,10 @@ def register(subparsers):
     """Add the ``campaign`` verb."""
     p = subparsers.add_parser("campaign", help="run the bench campaign through the ROS 2 graph",
                               description=__doc__.splitlines()[0])
-    p.add_argument("--components", nargs="+", metavar="NAME", default=list(DEFAULT_COMPONENTS),
-                   help="components (default: frame front_assembly swingarm)")
+    p.add_argument("--components", nargs="+", metavar="NAME|FILE",
+                   default=list(DEFAULT_COMPONENTS),
+                   help="components: shipped names or YAML files (default: frame "
+                        "front_assembly swingarm)")
     p.add_argument("--protocol", metavar="FILE", help="protocol YAML (default: each "
                    "component's shipped protocol)")
     p.add_argument("--noise", type=noise_argument, metavar="SIGMA",

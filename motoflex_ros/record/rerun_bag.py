@@ -52,7 +52,11 @@ from motoflex_ros.record.rerun_bag_vehicle import (
 from motoflex_ros.record.rerun_bench_replay import recorded_samples, replayed_displacements
 from motoflex_ros.record.rerun_blueprint import default_blueprint
 
-__all__ = ["convert_bag", "rrd_path_of", "BENCH_TOPIC", "decode"]
+__all__ = ["convert_bag", "rrd_path_of", "BENCH_TOPIC", "decode", "COMPONENTS_FILE"]
+
+COMPONENTS_FILE = "components.json"
+"""A run folder's {component name: YAML file} of the components that came from a file (a
+``component: mesh`` file, a beam YAML of one's own): what draws them on the bench."""
 
 BENCH_TOPIC = re.compile(r"^/bench/(?P<component>[^/]+)/(?P<what>load|phase|pose|markers/true|"
                          r"markers/measured)$")
@@ -103,12 +107,22 @@ def _collect(bag_dir):
     return grouped
 
 
-@functools.cache
+_SOURCES = {}
+"""{component name: YAML file} of the bag being converted (its components.json: the campaign
+writes it when a component came from a file)."""
+
+
 def _model(component):
-    """(Component, ReducedComponent) of a shipped component name, or None."""
+    """(Component, ReducedComponent) of a component of the bag (a shipped name, or the file the
+    bag's components.json names), or None."""
+    return _model_of(_SOURCES.get(component, component))
+
+
+@functools.cache
+def _model_of(spec):
     try:
         from motoflex_ros.structures import load_component
-        comp = load_component(component)
+        comp = load_component(spec)
         return comp, comp.clamped_reduced()
     except (MotoflexError, OSError, KeyError, ValueError):
         return None
@@ -269,6 +283,8 @@ def convert_bag(bag_dir, rrd_path=None, vehicle="touring", progress=False):
              default=0)
     bench = _bench_topics(grouped)
     identify = _read_json(bag_dir, "identification.json", "identify.json")
+    _SOURCES.clear()
+    _SOURCES.update(_read_json(bag_dir, COMPONENTS_FILE) or {})
     with bar:
         with rl.RunRecording(rrd_path or rrd_path_of(bag_dir), bag_dir.name,
                              default_blueprint) as run:

@@ -29,7 +29,7 @@ from motoflex_ros.structures.craig_bampton import craig_bampton
 from motoflex_ros.structures.schema import load_component_config, structure_from_config
 
 __all__ = ["ComponentModel", "Component", "load_component", "tube_component",
-           "DEFAULT_DAMPING_RATIO"]
+           "component_name", "DEFAULT_DAMPING_RATIO"]
 
 DEFAULT_DAMPING_RATIO = 0.01  # issue 3: modal damping ratio per mode, default 1 %
 
@@ -239,6 +239,17 @@ def load_component(name_or_file):
     else:
         comp = structure_from_config(cfg, path, Component)
     return replace(comp, source=str(Path(path)), damping_ratio=damping)
+
+
+def component_name(name_or_file):
+    """The name a component (shipped name or YAML file) goes by, from its file alone (no model
+    is built): ``component`` of a beam file, ``name`` (or the file's stem) of a mesh file."""
+    path = resolve_config("components", name_or_file)
+    cfg = load_component_config(path)
+    if cfg["component"] == "mesh":
+        from motoflex_ros.structures.mesh_component import mesh_component_name
+        return mesh_component_name(cfg, path)
+    return cfg["component"]
 
 
 def damping_ratio_setting(value, source):

@@ -30,6 +30,7 @@ the master of its set (a new spider when the set is not an interface), as on the
 components.
 """
 import math
+import re
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -48,7 +49,9 @@ from motoflex_ros.structures.mesh_file import UNITS, read_mesh
 from motoflex_ros.structures.solid import CORNERS, ElementError, assemble_solid
 
 __all__ = ["MeshComponent", "Spider", "MESH_SCHEMA", "load_mesh_component", "spider_transform",
-           "boundary_edges", "plane_rotation"]
+           "boundary_edges", "plane_rotation", "mesh_component_name"]
+
+NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 MODULUS_PA = (1e5, 1e15)
 DENSITY = (1.0, 1e5)
@@ -390,7 +393,7 @@ def load_mesh_component(cfg, path, damping_ratio):
         parts.append((node_names[part["set"]], part["mass"], rot @ inertia @ rot.T,
                       to_frame(part["cg"])))
     placement = cfg["placement"]
-    name = cfg["name"] or Path(path).stem
+    name = mesh_component_name(cfg, path)
     return MeshComponent(name=name, mesh_xyz=xyz, blocks=data.blocks, spiders=tuple(spiders),
                          material=dict(cfg["material"]), clamp_nodes=clamps, loaded_end=end,
                          interface_nodes=clamps + (end,), node_names=node_names,
@@ -398,6 +401,19 @@ def load_mesh_component(cfg, path, damping_ratio):
                          else np.asarray(placement["origin"], float),
                          parts=tuple(parts), source=source, mesh_file=str(mesh_path),
                          damping_ratio=damping_ratio, element_ids=data.id_kind)
+
+
+def mesh_component_name(cfg, path):
+    """The component's name: ``name``, else the YAML file's stem with every character that a
+    ROS topic name cannot hold replaced by '_' (the bench's topics are /bench/<name>/...)."""
+    if cfg["name"] is not None:
+        if not NAME.match(cfg["name"]):
+            raise ConfigError(path, "name", f"'{cfg['name']}' is not a name of letters, digits "
+                                            "and '_' starting with a letter (it names the "
+                                            "component's bench topics)")
+        return cfg["name"]
+    stem = re.sub(r"[^A-Za-z0-9_]", "_", Path(path).stem)
+    return stem if stem[:1].isalpha() else f"mesh_{stem}"
 
 
 def validate_mesh_config(data, path):
