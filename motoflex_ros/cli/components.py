@@ -7,7 +7,9 @@ about the static deformation axis (eqs. 1-8), beside Table 1 and Table 2 of Pass
 model's; the full clamped model's stand beside them, and a warning is printed when the reduced
 model keeps no fixed-interface mode or is more than 0.5 % off. --json prints {name:
 {f_torsion_hz, f_bending_hz, k_static, dofs, modes, ..., f_torsion_full_hz,
-f_bending_full_hz, frequency_model, warnings}}; --plot DIR writes one PNG per component.
+f_bending_full_hz, frequency_model, warnings}}; --plot DIR writes one PNG per component;
+--export DIR writes each component's Craig-Bampton model as a superelement (component:
+superelement) that the bench and the vehicle take like the component itself.
 """
 import sys
 from pathlib import Path
@@ -31,6 +33,9 @@ def register(subparsers):
                              "YAML file; repeatable (default: the three motorcycle components)")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--plot", metavar="DIR", help="write a PNG per component into DIR")
+    parser.add_argument("--export", metavar="DIR",
+                        help="write each component's Craig-Bampton model as a superelement "
+                             "(<name>.yaml, <name>_K.mtx, <name>_M.mtx) into DIR")
     parser.set_defaults(func=run)
 
 
@@ -100,6 +105,10 @@ def run(args):
     components = [load_component(n) for n in names]
     reduced = [c.clamped_reduced() for c in components]
     summaries = [summarize(c, r) for c, r in zip(components, reduced)]
+    if args.export:
+        from motoflex_ros.structures.superelement_file import export_superelement
+        for comp in components:
+            export_superelement(comp, args.export)
     if args.plot:
         from motoflex_ros.plots.components import plot_component
         for comp, red in zip(components, reduced):

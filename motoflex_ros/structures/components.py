@@ -223,14 +223,19 @@ def tube_component(length, outer_diameter, wall_thickness, pitch_deg, material, 
 
 def load_component(name_or_file):
     """Load a shipped component by name ('frame', 'tube', ...) or a YAML file path (a beam
-    structure, the tube, or ``component: mesh``: a
-    :class:`~motoflex_ros.structures.mesh_component.MeshComponent`)."""
+    structure, the tube, ``component: mesh``: a
+    :class:`~motoflex_ros.structures.mesh_component.MeshComponent`, or ``component:
+    superelement``: a :class:`~motoflex_ros.structures.superelement_file.
+    SuperelementComponent`)."""
     path = resolve_config("components", name_or_file)
     cfg = load_component_config(path)
     damping = damping_ratio_setting(cfg.get("damping_ratio"), path)
     if cfg["component"] == "mesh":
         from motoflex_ros.structures.mesh_component import load_mesh_component
         return load_mesh_component(cfg, path, damping)
+    if cfg["component"] == "superelement":
+        from motoflex_ros.structures.superelement_file import load_superelement_component
+        return load_superelement_component(cfg, path, damping)
     if cfg["component"] == "tube":
         t, m = cfg["tube"], cfg["material"]
         comp = tube_component(t["length"], t["outer_diameter"], t["wall_thickness"],
@@ -246,7 +251,7 @@ def component_name(name_or_file):
     is built): ``component`` of a beam file, ``name`` (or the file's stem) of a mesh file."""
     path = resolve_config("components", name_or_file)
     cfg = load_component_config(path)
-    if cfg["component"] == "mesh":
+    if cfg["component"] in ("mesh", "superelement"):
         from motoflex_ros.structures.mesh_component import mesh_component_name
         return mesh_component_name(cfg, path)
     return cfg["component"]

@@ -110,6 +110,11 @@ def _assembled_rigid_field(asm, node_xyz):
     """Rigid field on the assembled DOFs: Gamma_asm with expand @ Gamma_asm = Gamma_nodes."""
     gamma_nodes = rigid_field(node_xyz)
     normal = (asm.expand.T @ asm.expand).tocsc()
+    # coordinates that move no node (a superelement's generalized coordinates): zero there
+    empty = np.flatnonzero(normal.diagonal() == 0.0)
+    if len(empty):
+        normal = normal + sp.csc_matrix((np.ones(len(empty)), (empty, empty)),
+                                        shape=normal.shape)
     return spla.spsolve(normal, asm.expand.T @ gamma_nodes).reshape(-1, 6)
 
 
