@@ -284,9 +284,14 @@ class MeshComponent(ComponentModel):
             m_full = m_full + sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
                                                                     np.concatenate(cols))),
                                             shape=(n_full, n_full))
+        # the solid elements' own matrices are not needed any more: free them before the
+        # reduction factorises (they are as large as K and M)
+        self.__dict__.pop("solid_matrices", None)
+        del k_solid, m_solid
         t, free_nodes = self.constraint()
         k = (t.T @ k_full @ t).tocsc()
         m = (t.T @ m_full @ t).tocsc()
+        del k_full, m_full
         k, m = 0.5 * (k + k.T), 0.5 * (m + m.T)
         # expand: free DOFs -> six DOFs per node (mesh nodes: translations; rotations zero)
         n_nodes = n + ns
