@@ -54,7 +54,7 @@ from motoflex_ros.record.rerun_blueprint import default_blueprint
 
 __all__ = ["convert_bag", "rrd_path_of", "BENCH_TOPIC", "decode", "COMPONENTS_FILE"]
 
-COMPONENTS_FILE = "components.json"
+COMPONENTS_FILE = "component_files.json"
 """A run folder's {component name: YAML file} of the components that came from a file (a
 ``component: mesh`` file, a beam YAML of one's own): what draws them on the bench."""
 
@@ -108,13 +108,13 @@ def _collect(bag_dir):
 
 
 _SOURCES = {}
-"""{component name: YAML file} of the bag being converted (its components.json: the campaign
-writes it when a component came from a file)."""
+"""{component name: YAML file} of the bag being converted (its component_files.json: the
+campaign writes it when a component came from a file)."""
 
 
 def _model(component):
     """(Component, ReducedComponent) of a component of the bag (a shipped name, or the file the
-    bag's components.json names), or None."""
+    bag's component_files.json names), or None."""
     return _model_of(_SOURCES.get(component, component))
 
 
