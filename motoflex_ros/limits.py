@@ -36,6 +36,9 @@ LIMITS = {lim.name: lim for lim in (
     # the shipped components have 126-522 DOFs; 60,000 DOFs (a 10,000-element tube) take about
     # 4 s and 250 MB for `motoflex components`
     Limit("dofs", 100_000, "DOFs", "degrees of freedom of one component model"),
+    # a solid mesh (component: mesh): 3 DOFs per node; 1e6 DOFs reduce in minutes and take
+    # gigabytes (README, benchmarks/bench_mesh.py)
+    Limit("mesh_dofs", 1_200_000, "DOFs", "degrees of freedom of one solid mesh component"),
     # the shipped campaigns have 6,500-8,400 samples per component (about 0.3 ms each offline,
     # so about a minute at the limit)
     Limit("samples", 250_000, "samples", "samples of one component's bench campaign"),

@@ -237,7 +237,108 @@ MORE_CASES = {
                                             "front_assembly", node=True),
 }
 
-CASES = {**ISSUE_CASES, **MORE_CASES}
+
+
+def _mesh_texts():
+    """Texts of small mesh files (issue 15): a box of linear tetrahedra in Abaqus .inp with the
+    node sets clamp (x = 0), tip (x = 0.2), edge (three nodes on one line) and near (the clamp
+    face's nodes plus one of the tip's); a copy with one element's nodes swapped (inverted), one
+    with an element whose four nodes are coplanar (zero volume), one in mm read as m, a mesh of
+    wedges and a mesh of surface triangles only (VTU)."""
+    import meshio
+    import numpy as np
+
+    from motoflex_ros.structures.mesh_examples import box_mesh, write_mesh
+    points, cells = box_mesh(0.2, 0.02, 0.02, (4, 1, 1), "tetra")
+    x, y, z = points.T
+    clamp, tip = np.flatnonzero(np.isclose(x, 0)), np.flatnonzero(np.isclose(x, 0.2))
+    sets = {"clamp": clamp, "tip": tip,
+            "edge": np.flatnonzero(np.isclose(y, y.min()) & np.isclose(z, z.min())
+                                   & (x > 0.01) & (x < 0.19)),
+            "near": np.append(clamp, tip[0])}
+    inverted = cells.copy()
+    inverted[3, [1, 2]] = inverted[3, [2, 1]]
+    flat = cells.copy()
+    flat[5, 3] = flat[5, 0]   # element 6 has a node twice: zero volume
+    texts = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, pts, cl, units in (("good", points, cells, "m"), ("inverted", points,
+                                                                    inverted, "m"),
+                                     ("flat", points, flat, "m"),
+                                     ("big", points * 100, cells, "mm")):
+            path = Path(tmp) / f"{name}.inp"
+            write_mesh(path, pts, cl, "tetra", sets, units)
+            texts[name] = path.read_text()
+        wedge = Path(tmp) / "wedge.vtu"
+        meshio.write(str(wedge), meshio.Mesh(points[:6], [("wedge", np.array([[0, 1, 2, 3, 4,
+                                                                             5]]))]))
+        texts["wedge"] = wedge.read_text()
+        surface = Path(tmp) / "surface.vtu"
+        meshio.write(str(surface), meshio.Mesh(points, [("triangle", cells[:, :3])],
+                                               point_data={"clamp": np.isin(
+                                                   np.arange(len(points)), clamp).astype(int)}))
+        texts["surface"] = surface.read_text()
+    return texts
+
+
+MESH_TEXTS = _mesh_texts()
+PART = "part.yaml"
+PART_YAML = """component: mesh
+mesh: {file: box.inp, units: m, clamps: [clamp], loaded_end: tip}
+material: {E: 7.0e10, nu: 0.33, rho: 2700}
+"""
+
+
+def part(mesh="good", *edits, mesh_name="box.inp"):
+    """A mesh component YAML (PART) with its mesh file, each (old, new) edit made to the YAML."""
+    text = PART_YAML.replace("box.inp", mesh_name)
+    for old, new in edits:
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    return {PART: text, mesh_name: MESH_TEXTS[mesh]}
+
+
+MESH_CASES = {
+    "mesh_file_missing": Case(COMPONENTS + (ref(PART),), {PART: PART_YAML}, PART,
+                              "mesh.file"),
+    "mesh_unknown_set": Case(COMPONENTS + (ref(PART),), part("good", ("[clamp]", "[pivot]")),
+                             PART, "mesh.clamps[0]"),
+    "mesh_set_names_the_mesh_file": Case(IDENTIFY_MESH := ("identify", "--component",
+                                                           ref(PART), "--out", "{o.json}"),
+                                         part("good", ("loaded_end: tip", "loaded_end: axle")),
+                                         "box.inp", "mesh.loaded_end"),
+    "mesh_unsupported_element": Case(COMPONENTS + (ref(PART),),
+                                     part("wedge", mesh_name="box.vtu"), PART, "wedge"),
+    "mesh_units_not_m_or_mm": Case(COMPONENTS + (ref(PART),),
+                                   part("good", ("units: m", "units: inch")), PART,
+                                   "mesh.units"),
+    "mesh_mm_read_as_m": Case(COMPONENTS + (ref(PART),), part("big"), PART, "mesh.units"),
+    "mesh_zero_volume_element": Case(COMPONENTS + (ref(PART),), part("flat"), PART,
+                                     "tetra element 6"),
+    "mesh_inverted_element": Case(IDENTIFY_MESH, part("inverted"), PART, "tetra element 4"),
+    "mesh_without_volume_elements": Case(COMPONENTS + (ref(PART),),
+                                         part("surface", mesh_name="box.vtu"), "box.vtu",
+                                         "no volume elements"),
+    "mesh_collinear_set": Case(COMPONENTS + (ref(PART),),
+                               part("good", ("loaded_end: tip", "loaded_end: edge")), PART,
+                               "on one line"),
+    "mesh_sets_share_nodes": Case(COMPONENTS + (ref(PART),),
+                                  part("good", ("loaded_end: tip", "loaded_end: near")), PART,
+                                  "mesh.loaded_end"),
+    "mesh_unreadable": Case(COMPONENTS + (ref(PART),),
+                            {PART: PART_YAML.replace("box.inp", "box.msh"),
+                             "box.msh": "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n"
+                                        "garbage\n"}, "box.msh", "meshio cannot read"),
+    "mesh_unsupported_format": Case(COMPONENTS + (ref(PART),),
+                                    {PART: PART_YAML.replace("box.inp", "box.stl"),
+                                     "box.stl": "solid x\nendsolid x\n"}, PART, "mesh.file"),
+    "mesh_too_many_dofs": Case(COMPONENTS + (ref(PART), "--limit", "mesh_dofs=50"),
+                               part("good"), PART, "mesh_dofs"),
+    "mesh_nu_out_of_range": Case(COMPONENTS + (ref(PART),),
+                                 part("good", ("nu: 0.33", "nu: 0.5")), PART, "material.nu"),
+}
+
+CASES = {**ISSUE_CASES, **MORE_CASES, **MESH_CASES}
 
 
 def test_enough_cases():

@@ -103,8 +103,8 @@ def replayed_displacements(reduced, samples, picks):
 
 @functools.cache
 def shipped_model(component):
-    """(Component, ReducedComponent) of a shipped component name (the clamped reduced model
-    the component simulator integrates), or None when there is no such component."""
+    """(Component, ReducedComponent) of a shipped component name or a component YAML file (the
+    clamped reduced model the component simulator integrates), or None when there is none."""
     try:
         from motoflex_ros.structures import load_component
         comp = load_component(component)

@@ -28,8 +28,8 @@ def register(subparsers):
     """Add the ``campaign`` verb."""
     p = subparsers.add_parser("campaign", help="run the bench campaign through the ROS 2 graph",
                               description=__doc__.splitlines()[0])
-    add_component_option(p, "a component (shipped name); repeatable (default: frame, "
-                            "front_assembly, swingarm)")
+    add_component_option(p, "a component: shipped name or YAML file; repeatable (default: "
+                            "frame, front_assembly, swingarm)", metavar="NAME|FILE")
     p.add_argument("--protocol", metavar="FILE", help="protocol YAML (default: each "
                    "component's shipped protocol)")
     p.add_argument("--noise", type=noise_argument, metavar="SIGMA",

@@ -7,7 +7,9 @@ about the static deformation axis (eqs. 1-8), beside Table 1 and Table 2 of Pass
 model's; the full clamped model's stand beside them, and a warning is printed when the reduced
 model keeps no fixed-interface mode or is more than 0.5 % off. --json prints {name:
 {f_torsion_hz, f_bending_hz, k_static, dofs, modes, ..., f_torsion_full_hz,
-f_bending_full_hz, frequency_model, warnings}}; --plot DIR writes one PNG per component.
+f_bending_full_hz, frequency_model, warnings}}; --plot DIR writes one PNG per component;
+--export DIR writes each component's Craig-Bampton model as a superelement (component:
+superelement) that the bench and the vehicle take like the component itself.
 """
 import sys
 from pathlib import Path
@@ -36,6 +38,9 @@ def register(subparsers):
                              "A.1 does (FE DOFs, reduced modes+boundary DOFs) and what their "
                              "assembly gives against the single FE model (--json: key "
                              "'bodies')")
+    parser.add_argument("--export", metavar="DIR",
+                        help="write each component's Craig-Bampton model as a superelement "
+                             "(<name>.yaml, <name>_K.mtx, <name>_M.mtx) into DIR")
     parser.set_defaults(func=run)
 
 
@@ -105,17 +110,22 @@ def run(args):
     components = [load_component(n) for n in names]
     reduced = [c.clamped_reduced() for c in components]
     summaries = [summarize(c, r) for c, r in zip(components, reduced)]
+    if args.export:
+        from motoflex_ros.structures.superelement_file import export_superelement
+        for comp in components:
+            export_superelement(comp, args.export)
     if args.plot:
         from motoflex_ros.plots.components import plot_component
         with progress_bar(len(components), "plots", "component") as bar:
             for comp, red in zip(components, reduced):
                 plot_component(comp, red, Path(args.plot) / f"{comp.name}.png")
                 bar.update(1)
+    # flexible bodies of beam components (a mesh or superelement component is one body)
     bodies = {c.name: _bodies_entry(c, s) for c, s in zip(components, summaries)
-              if args.bodies}
+              if args.bodies and c.kind == "beam"}
     if args.json:
-        emit_json({s.name: {**_entry(s), **({"bodies": bodies[s.name]} if bodies else {})}
-                   for s in summaries})
+        emit_json({s.name: {**_entry(s), **({"bodies": bodies[s.name]} if s.name in bodies
+                                            else {})} for s in summaries})
         return 0
     print_table(["component", "DOFs", "modes", "quantity", "ours (reduced)", "full model",
                  "paper", "difference"], _rows(summaries))

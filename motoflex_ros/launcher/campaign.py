@@ -17,6 +17,7 @@ from motoflex_ros.launcher.run import RunFailed, run_graph, work_folder
 from motoflex_ros.record.tf_bag import TF_LIVE, TF_STATIC_LIVE
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
+           "bench_components",
            "planned_duration", "RESULT_FILE", "VEHICLE_COMPONENTS", "VEHICLE_VARIANT"]
 
 RESULT_FILE = "identification.json"
@@ -49,8 +50,28 @@ values; the campaign prints its weave and wobble and the report shows them."""
 
 
 def with_vehicle(components):
-    """Does the campaign include the vehicle (all three motorcycle components)?"""
+    """Does the campaign include the vehicle (all three shipped motorcycle components, by
+    name: a component from a YAML file is tested on the bench only)?"""
     return set(VEHICLE_COMPONENTS) <= set(components)
+
+
+def bench_components(components):
+    """(names, specs) of the campaign's components: the name each goes by (its topics are
+    /bench/<name>/...) and what the nodes load (a shipped name, or a YAML file's absolute
+    path); ConfigError when two have one name."""
+    from motoflex_ros.errors import ConfigError
+    from motoflex_ros.structures.components import component_name
+    names, specs = [], []
+    for given in components:
+        name = component_name(given)
+        if name in names:
+            raise ConfigError("command line", "--component", f"two components are called "
+                                                              f"'{name}' ({given})")
+        path = Path(given)
+        names.append(name)
+        specs.append(str(path.resolve()) if path.suffix in (".yaml", ".yml") or path.exists()
+                     else given)
+    return names, specs
 
 
 def campaign_topics(components):
@@ -70,7 +91,8 @@ def identified_topics(components):
 def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_file=None):
     """NodeSpecs of the campaign graph recording to ``bag`` (a directory that must not exist);
     the identification node writes ``result_file`` (default ``bag``/identification.json)."""
-    bench = {"components": list(components), "seed": int(seed),
+    names, specs = bench_components(components)
+    bench = {"components": specs, "seed": int(seed),
              "noise": -1.0 if noise is None else float(noise), "protocol": protocol or ""}
     workers = ["component_simulator", "displacement_sensor", "identification", "recorder"]
     vehicle = ([NodeSpec("vehicle_simulator", {"components": list(VEHICLE_COMPONENTS),
@@ -82,9 +104,9 @@ def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_fi
         NodeSpec("displacement_sensor", dict(bench)),
         NodeSpec("identification", {**bench,
                                     "result_file": str(result_file or Path(bag) / RESULT_FILE)}),
-        NodeSpec("recorder", {"bag": str(bag), "topics": campaign_topics(components),
+        NodeSpec("recorder", {"bag": str(bag), "topics": campaign_topics(names),
                               "late_topics": ["/identification/results", *VEHICLE_TOPICS,
-                                              *identified_topics(components)]}),
+                                              *identified_topics(names)]}),
     ]
 
 
@@ -128,6 +150,13 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
             raise RunFailed(f"the identification node wrote no {RESULT_FILE} in {bag}; its "
                             f"log: {work_dir / 'log' / 'identification.log'}")
     staged(result_file).replace(result_file)
+    names, specs = bench_components(components)
+    files = {n: s for n, s, given in zip(names, specs, components) if s != given or
+             Path(s).is_file()}
+    if files:   # what draws them in the rerun recording and the report
+        from motoflex_ros.files import atomic_write_text
+        from motoflex_ros.record.rerun_bag import COMPONENTS_FILE
+        atomic_write_text(bag / COMPONENTS_FILE, json.dumps(files, indent=1) + "\n")
     results = json.loads(result_file.read_text())
     eig = run.collected["vehicle/eigenvalues"]
     vehicle = {s.name.split("/")[1]: {kv.key: json.loads(kv.value) for kv in s.values}

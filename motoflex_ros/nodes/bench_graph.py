@@ -19,7 +19,8 @@ __all__ = ["BENCH_PARAMS", "topic", "frame_id", "campaign_setups", "SampleJoin"]
 COMPONENTS = MOTORCYCLE_COMPONENTS
 
 BENCH_PARAMS = (
-    Param("components", COMPONENTS, description="components, in campaign order"),
+    Param("components", COMPONENTS, description="components (shipped names or YAML files), in "
+                                                "campaign order"),
     Param("protocol", "", description="protocol name or file ('': each component's own)"),
     Param("noise", -1.0, -1.0, MAX_NOISE_M,
           description="sensor noise std [m] (-1: the protocol's)"),
@@ -43,7 +44,9 @@ def campaign_setups(params):
     noise = None if params["noise"] == -1.0 else checked_noise(params["noise"], "ROS parameters",
                                                                "noise")
     protocol = params["protocol"] or None
-    return {name: setup_campaign(name, protocol, noise) for name in params["components"]}
+    setups = [setup_campaign(c, protocol, noise) for c in params["components"]]
+    # keyed by the component's own name (a YAML file's too: its topics are /bench/<name>/...)
+    return {s.name: s for s in setups}
 
 
 class SampleJoin:

@@ -52,7 +52,12 @@ from motoflex_ros.record.rerun_bag_vehicle import (
 )
 from motoflex_ros.record.rerun_blueprint import default_blueprint
 
-__all__ = ["convert_bag", "rrd_path_of", "run_identification", "BENCH_TOPIC", "decode"]
+__all__ = ["convert_bag", "rrd_path_of", "run_identification", "BENCH_TOPIC", "decode",
+           "COMPONENTS_FILE"]
+
+COMPONENTS_FILE = "component_files.json"
+"""A run folder's {component name: YAML file} of the components that came from a file (a
+``component: mesh`` file, a beam YAML of one's own): what draws them on the bench."""
 
 BENCH_TOPIC = re.compile(r"^/bench/(?P<component>[^/]+)/(?P<what>load|phase|pose|markers/true|"
                          r"markers/measured)$")
@@ -102,6 +107,18 @@ def _collect(bag_dir):
         if stamp is not None or unstamped:
             grouped[message.topic].append((stamp, msg))
     return grouped
+
+
+_SOURCES = {}
+"""{component name: YAML file} of the bag being converted (its component_files.json: the
+campaign writes it when a component came from a file)."""
+
+
+def _model(component):
+    """(Component, ReducedComponent) of a component of the bag (a shipped name, or the file the
+    bag's component_files.json names), or None (:func:`motoflex_ros.bench.replay.
+    shipped_model`)."""
+    return shipped_model(_SOURCES.get(component, component))
 
 
 def _log_bench_load(rec, component, topics, t0, model, bench_offset):
@@ -171,7 +188,7 @@ def _log_identification(rec, samples, t0, known, draw_axes):
             values = {kv.key: _number(kv.value) for kv in status.values}
             values = {k: v for k, v in values.items() if v is not None}
             rl.log_identification(rec, component, test, values, (t_ns - t0) * 1e-9)
-            model = shipped_model(component) if component in known and draw_axes else None
+            model = _model(component) if component in known and draw_axes else None
             if model and test in rl.AXIS_COLORS and {"l", "beta"} <= values.keys():
                 rl.log_axis(rec, component, test, values["l"], values["beta"], model[0].q0)
 
@@ -187,7 +204,7 @@ def _log_identified_axes(rec, identify, sim_time_s, log_values):
     """Axes (static, torsion, bending, sweep) and (``log_values``) values of identify-format
     results."""
     for component, result in identify.items():
-        model = shipped_model(component)
+        model = _model(component)
         if not isinstance(result, dict) or model is None:
             continue
         q0 = model[0].q0
@@ -233,7 +250,7 @@ def _log_bench_topics(rec, bench, t0):
     converted = []
     for k, (component, topics) in enumerate(sorted(bench.items())):
         if "load" in topics:
-            _log_bench_load(rec, component, topics, t0, shipped_model(component),
+            _log_bench_load(rec, component, topics, t0, _model(component),
                             (0.0, BENCH_SPACING_M * k, 0.0))
         for kind in ("true", "measured"):
             if f"markers/{kind}" in topics:
@@ -265,6 +282,8 @@ def convert_bag(bag_dir, rrd_path=None, motorcycle=None, progress=False):
              default=0)
     bench = _bench_topics(grouped)
     identify = run_identification(bag_dir)
+    _SOURCES.clear()
+    _SOURCES.update(_read_json(bag_dir, COMPONENTS_FILE) or {})
     with bar:
         with rl.RunRecording(rrd_path or rrd_path_of(bag_dir), bag_dir.name,
                              default_blueprint) as run:

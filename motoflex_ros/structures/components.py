@@ -18,7 +18,7 @@ import numpy as np
 
 from motoflex_ros.config import Field, number, resolve_config, validate
 from motoflex_ros.errors import ConfigError, ModelError
-from motoflex_ros.structures.assembly import Structure
+from motoflex_ros.structures.assembly import AssembledStructure, Structure
 from motoflex_ros.structures.beam import Material, tube_section
 from motoflex_ros.structures.clamped import (
     check_one_ratio_per_eigenspace,
@@ -28,43 +28,54 @@ from motoflex_ros.structures.clamped import (
 from motoflex_ros.structures.craig_bampton import craig_bampton
 from motoflex_ros.structures.schema import load_component_config, structure_from_config
 
-__all__ = ["Component", "load_component", "tube_component", "DEFAULT_DAMPING_RATIO"]
+__all__ = ["ComponentModel", "Component", "load_component", "tube_component",
+           "component_name", "DEFAULT_DAMPING_RATIO"]
 
 DEFAULT_DAMPING_RATIO = 0.01  # issue 3: modal damping ratio per mode, default 1 %
 
 
-@dataclass(frozen=True)
-class Component:
-    """A clamped component: its structure (unclamped; clamps are interface nodes) and names.
+class ComponentModel:
+    """The chain every kind of component shares: Craig-Bampton, the clamped reduced model for
+    the bench, the interface points for the vehicle.
 
-    ``node_xyz`` (n, 3) [m] in the component frame; ``elements`` (n_e, 2) node pairs;
-    ``clamp_nodes``, ``loaded_end`` node indices; ``interface_nodes`` all boundary nodes
-    (clamps first, then the loaded end, then others); ``node_names`` name -> index of the
-    named nodes; ``origin`` O in the vehicle frame [m]; ``damping_ratio`` [-] the modal
-    damping of the clamped reduced model: one ratio for all modes or one per mode (ascending
-    frequency), from the file's optional ``damping_ratio`` key (default 0.01).
+    A kind (:class:`Component` of beams, :class:`~motoflex_ros.structures.mesh_component.
+    MeshComponent` of a solid mesh) has the attributes ``name``, ``clamp_nodes``,
+    ``loaded_end``, ``interface_nodes`` (clamps first, then the loaded end, then others; each
+    with six DOFs ux..rz in the assembled model), ``node_names`` (name -> node index),
+    ``origin`` (O in the vehicle frame [m]), ``source`` (its file) and ``damping_ratio``, and
+    implements :attr:`node_xyz`, :attr:`elements` and :meth:`assembled`; everything else comes
+    from here.
     """
 
-    name: str
-    structure: Structure
-    clamp_nodes: tuple
-    loaded_end: int
-    interface_nodes: tuple
-    node_names: dict
-    origin: np.ndarray
-    source: str = ""
-    damping_ratio: object = DEFAULT_DAMPING_RATIO
-    body_names: dict = None
+    kind = "component"
+    singular_hint = "check the structure and its clamps"
 
     @property
     def node_xyz(self):
         """Node coordinates in the component frame, (n_nodes, 3) [m]."""
-        return self.structure.xyz
+        raise NotImplementedError
 
     @property
     def elements(self):
-        """Element connectivity, (n_elements, 2) node indices."""
-        return np.array([(e[0], e[1]) for e in self.structure.elements], int)
+        """Node pairs (n, 2) that draw the component (beam elements, a mesh's surface edges)."""
+        raise NotImplementedError
+
+    def assembled(self):
+        """Sparse K, M of the unclamped model (an AssembledStructure: K, M over its free DOFs,
+        ``expand`` to six DOFs per node, ``node_dofs``)."""
+        raise NotImplementedError
+
+    def clamped_assembled(self):
+        """The assembled model with the clamp nodes' DOFs removed (an AssembledStructure)."""
+        asm = self.assembled()
+        drop = np.concatenate([asm.node_dofs(n) for n in self.clamp_nodes])
+        keep = np.setdiff1d(np.arange(asm.K.shape[0]), drop)
+        index = -np.ones(asm.K.shape[0], int)
+        index[keep] = np.arange(len(keep))
+        free = asm.free_index.copy()
+        free[free >= 0] = index[free[free >= 0]]
+        return AssembledStructure(K=asm.K[keep][:, keep].tocsc(), M=asm.M[keep][:, keep].tocsc(),
+                                  expand=asm.expand[:, keep].tocsr(), free_index=free)
 
     @property
     def clamp_xyz(self):
@@ -82,10 +93,6 @@ class Component:
         return {by_index.get(i, f"node{i}"): self.origin + self.node_xyz[i]
                 for i in self.interface_nodes}
 
-    def assembled(self):
-        """Sparse K, M of the unclamped structure (links eliminated)."""
-        return self.structure.assemble()
-
     def craig_bampton(self, n_modes=20, f_max_hz=600.0, zeta=None):
         """Craig-Bampton model with all DOFs of all interface nodes as boundary.
 
@@ -98,8 +105,8 @@ class Component:
         try:
             cb = craig_bampton(asm.K, asm.M, boundary, n_modes, f_max_hz, zeta)
         except ModelError as exc:   # e.g. a singular interior stiffness: name the file
-            raise ModelError(f"{self.source or self.name}: {exc} (check members, springs, "
-                             f"rigid_links and interfaces.clamps)") from None
+            raise ModelError(f"{self.source or self.name}: {exc} ({self.singular_hint})"
+                             ) from None
         self._check_damping_count(cb)
         return cb, asm
 
@@ -148,6 +155,59 @@ class Component:
         return int(self.assembled().K.shape[0])
 
 
+@dataclass(frozen=True)
+class Component(ComponentModel):
+    """A clamped beam component: its structure (unclamped; clamps are interface nodes) and names.
+
+    ``node_xyz`` (n, 3) [m] in the component frame; ``elements`` (n_e, 2) node pairs;
+    ``clamp_nodes``, ``loaded_end`` node indices; ``interface_nodes`` all boundary nodes
+    (clamps first, then the loaded end, then others); ``node_names`` name -> index of the
+    named nodes; ``origin`` O in the vehicle frame [m]; ``damping_ratio`` [-] the modal
+    damping of the clamped reduced model: one ratio for all modes or one per mode (ascending
+    frequency), from the file's optional ``damping_ratio`` key (default 0.01);
+    ``body_names`` {name: node index} names flexible bodies (the optional ``bodies`` key;
+    :mod:`motoflex_ros.structures.bodies`).
+    """
+
+    name: str
+    structure: Structure
+    clamp_nodes: tuple
+    loaded_end: int
+    interface_nodes: tuple
+    node_names: dict
+    origin: np.ndarray
+    source: str = ""
+    damping_ratio: object = DEFAULT_DAMPING_RATIO
+    body_names: dict = None
+
+    kind = "beam"
+    singular_hint = "check members, springs, rigid_links and interfaces.clamps"
+
+    @property
+    def node_xyz(self):
+        """Node coordinates in the component frame, (n_nodes, 3) [m]."""
+        return self.structure.xyz
+
+    @property
+    def elements(self):
+        """Element connectivity, (n_elements, 2) node indices."""
+        return np.array([(e[0], e[1]) for e in self.structure.elements], int)
+
+    def assembled(self):
+        """Sparse K, M of the unclamped structure (links eliminated)."""
+        return self.structure.assemble()
+
+    def clamped_assembled(self):
+        """The structure assembled with its clamp nodes fixed."""
+        structure = self.structure
+        saved = set(structure.clamped)
+        structure.clamped.update(self.clamp_nodes)
+        try:
+            return structure.assemble()
+        finally:
+            structure.clamped = saved
+
+
 def tube_component(length, outer_diameter, wall_thickness, pitch_deg, material, elements,
                    name="tube"):
     """Clamped-free tube: O at the clamp, in the x-z plane at pitch_deg above x [m, deg]."""
@@ -165,9 +225,20 @@ def tube_component(length, outer_diameter, wall_thickness, pitch_deg, material, 
 
 
 def load_component(name_or_file):
-    """Load a shipped component by name ('frame', 'tube', ...) or a YAML file path."""
+    """Load a shipped component by name ('frame', 'tube', ...) or a YAML file path (a beam
+    structure, the tube, ``component: mesh``: a
+    :class:`~motoflex_ros.structures.mesh_component.MeshComponent`, or ``component:
+    superelement``: a :class:`~motoflex_ros.structures.superelement_file.
+    SuperelementComponent`)."""
     path = resolve_config("components", name_or_file)
     cfg = load_component_config(path)
+    damping = damping_ratio_setting(cfg.get("damping_ratio"), path)
+    if cfg["component"] == "mesh":
+        from motoflex_ros.structures.mesh_component import load_mesh_component
+        return load_mesh_component(cfg, path, damping)
+    if cfg["component"] == "superelement":
+        from motoflex_ros.structures.superelement_file import load_superelement_component
+        return load_superelement_component(cfg, path, damping)
     if cfg["component"] == "tube":
         t, m = cfg["tube"], cfg["material"]
         comp = tube_component(t["length"], t["outer_diameter"], t["wall_thickness"],
@@ -175,8 +246,18 @@ def load_component(name_or_file):
                               cfg["elements"])
     else:
         comp = structure_from_config(cfg, path, Component)
-    return replace(comp, source=str(Path(path)),
-                   damping_ratio=damping_ratio_setting(cfg.get("damping_ratio"), path))
+    return replace(comp, source=str(Path(path)), damping_ratio=damping)
+
+
+def component_name(name_or_file):
+    """The name a component (shipped name or YAML file) goes by, from its file alone (no model
+    is built): ``component`` of a beam file, ``name`` (or the file's stem) of a mesh file."""
+    path = resolve_config("components", name_or_file)
+    cfg = load_component_config(path)
+    if cfg["component"] in ("mesh", "superelement"):
+        from motoflex_ros.structures.mesh_component import mesh_component_name
+        return mesh_component_name(cfg, path)
+    return cfg["component"]
 
 
 def damping_ratio_setting(value, source):

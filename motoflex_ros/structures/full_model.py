@@ -32,13 +32,7 @@ class FullModes:
 
 def full_clamped_matrices(component):
     """(K [N/m..], M [kg..], assembled structure) of the full model with the clamps applied."""
-    structure = component.structure
-    saved = set(structure.clamped)
-    structure.clamped.update(component.clamp_nodes)
-    try:
-        asm = structure.assemble()
-    finally:
-        structure.clamped = saved
+    asm = component.clamped_assembled()
     return asm.K, asm.M, asm
 
 

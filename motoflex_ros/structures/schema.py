@@ -112,8 +112,14 @@ def load_component_config(path):
     if not isinstance(data, dict):
         raise ConfigError(path, "(top level)", "expected a mapping")
     if "component" not in data:
-        raise ConfigError(path, "component", "missing (required: tube, frame, "
+        raise ConfigError(path, "component", "missing (required: tube, mesh, superelement, frame, "
                                              "front_assembly, swingarm or another name)")
+    if data["component"] == "mesh":
+        from motoflex_ros.structures.mesh_component import MESH_SCHEMA
+        return validate(data, MESH_SCHEMA, path)
+    if data["component"] == "superelement":
+        from motoflex_ros.structures.superelement_file import SUPERELEMENT_SCHEMA
+        return validate(data, SUPERELEMENT_SCHEMA, path)
     schema = TUBE_SCHEMA if data["component"] == "tube" else STRUCTURE_SCHEMA
     cfg = validate(data, schema, path)
     if cfg["component"] == "tube":

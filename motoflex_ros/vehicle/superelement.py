@@ -37,6 +37,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from motoflex_ros.errors import ModelError
 from motoflex_ros.spatial import cross, skew
@@ -121,12 +122,24 @@ def rigid_field(xyz):
     return field.reshape(6 * n, 6)
 
 
+def _assembled_field(asm, gamma_nodes):
+    """A node field (6 n_nodes, 6) on the assembled DOFs: Gamma_asm with expand @ Gamma_asm =
+    Gamma_nodes (least squares: exact for a rigid field)."""
+    normal = (asm.expand.T @ asm.expand).tocsc()
+    # coordinates that move no node (a superelement's generalized coordinates): zero there
+    empty = np.flatnonzero(normal.diagonal() == 0.0)
+    if len(empty):
+        normal = normal + sp.csc_matrix((np.ones(len(empty)), (empty, empty)),
+                                        shape=normal.shape)
+    return spla.spsolve(normal, asm.expand.T @ gamma_nodes).reshape(-1, 6)
+
+
 def follower_masks(component, parent, follows):
     """{vehicle body: node mask} of the component's nodes: the nodes of each of its bodies
     (:func:`~motoflex_ros.structures.bodies.split_bodies`) that holds a node named in
     ``follows[body]`` follow that body, all others ``parent``."""
     owner = np.full(len(component.node_xyz), parent, dtype=object)
-    groups = split_bodies(component.structure)
+    groups = split_bodies(component.structure) if follows else []
     for body, node_names in (follows or {}).items():
         for name in node_names:
             if name not in component.node_names:
@@ -154,12 +167,11 @@ def superelement_of(component, parent, n_modes=20, f_max_hz=600.0, zeta=None, fo
                          "interface node after the clamps")
     reduced = reduce_clamped(component.name, cb, keep, end_dofs, component.q0, asm.expand)
     gamma_nodes = rigid_field(component.node_xyz + component.origin)
-    free = np.flatnonzero(asm.free_index >= 0)   # free DOFs are node DOFs, in this order
     transform = cb.transform[:, keep]
     mass = asm.M if sp.issparse(asm.M) else sp.csr_matrix(asm.M)
     couplings = []
     for body, mask in follower_masks(component, parent, follows).items():
-        gamma = (gamma_nodes * np.repeat(mask, 6)[:, None])[free]
+        gamma = _assembled_field(asm, gamma_nodes * np.repeat(mask, 6)[:, None])
         couplings.append((body, np.asarray(transform.T @ (mass @ gamma))))
     return Superelement(component.name, parent, component.origin + component.q0, reduced.M,
                         reduced.K, reduced.C, tuple(couplings), cb.n_modes)
