@@ -121,7 +121,7 @@ def test_campaign_graph_runs_a_mesh_file_and_draws_it(bracket, tmp_path):
     the mesh on the bench."""
     from motoflex_ros.record.rerun_readback import entity_rows
     bag = tmp_path / "run"
-    out = json.loads(run_cli("campaign", "--components", bracket, "--report", "quick",
+    out = json.loads(run_cli("campaign", "--component", bracket, "--report", "quick",
                              "--out", str(bag), "--json"))
     offline = run_campaign(setup_campaign(bracket), seed=0).identification.to_dict()
     assert out["bracket"]["static"]["k"] == pytest.approx(offline["static"]["k"], rel=1e-9)
