@@ -53,7 +53,9 @@ setup(
         "ros": ROS_JAZZY_WHEELS,
         "record": ["mcap>=1.2", "mcap-ros2-support>=0.5", "rosbags>=0.10", "rerun-sdk>=0.41"],
         "scale": ["dask[distributed]>=2024.1"],
-        "test": ["pytest>=8", "ruff>=0.6", "pytest-benchmark>=4", "pillow>=10", "sympy>=1.12"],
+        # gmsh: a hollow tube meshed as an engineer's FE tool does (test_mesh_gmsh.py)
+        "test": ["pytest>=8", "ruff>=0.6", "pytest-benchmark>=4", "pillow>=10", "sympy>=1.12",
+                 "gmsh>=4.11"],
     },
     zip_safe=True,
     maintainer="motoflex_ros developers",

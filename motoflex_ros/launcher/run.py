@@ -87,9 +87,15 @@ def _raise_on_sigterm(signum, frame):
     raise KeyboardInterrupt("SIGTERM")
 
 
+READY_TIMEOUT_S = 180.0
+"""How long the nodes may take to come up [s]: on a quiet machine a campaign's eight nodes are
+up in 5-10 s; two campaigns at once beside other work on two cores took over 60 s (the
+recorder, which subscribes once it has discovered each topic's publishers, last)."""
+
+
 def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=False,
-              ready_timeout=60.0, drain_timeout=30.0, finishers=(), finish_timeout=300.0,
-              namespace=None):
+              ready_timeout=READY_TIMEOUT_S, drain_timeout=30.0, finishers=(),
+              finish_timeout=300.0, namespace=None):
     """Run ``specs`` until ``pacer`` exits 0 (and then every node in ``finishers``); returns a
     :class:`RunResult`. ``collect``: (topic, msg_type) pairs whose messages the monitor keeps
     (topics relative to ``namespace``, where every node runs: None or '/' for the root).
