@@ -43,6 +43,22 @@ def timoshenko_tip(force=FORCE):
             force * L**2 / (2 * E * inertia))
 
 
+def tube_frequencies():
+    """First bending (Euler-Bernoulli cantilever) and torsion (clamped-free shaft) frequencies
+    of the tube [Hz]."""
+    area, inertia, _ = tube_properties()
+    return (1.875104**2 / (2 * np.pi) * np.sqrt(E * inertia / (RHO * area * L**4)),
+            np.sqrt(G / RHO) / (4 * L))
+
+
+def assert_tube_frequencies(component, rel=0.01):
+    """The full clamped model's first bending and torsion frequencies within ``rel``."""
+    full = full_clamped_modes(component, n_modes=12)
+    bending, torsion = tube_frequencies()
+    assert full.frequency("bending") == pytest.approx(bending, rel=rel)
+    assert full.frequency("torsion") == pytest.approx(torsion, rel=rel)
+
+
 def mesh_yaml(tmp_path, points, cells, cell_type, suffix=".vtu", units="m", name="part",
               **extra):
     """Write the mesh (clamp at x = 0, loaded end at the far face) and its component YAML."""
@@ -222,13 +238,7 @@ def test_tube_first_bending_and_torsion_frequencies(hex20_tube):
     """The full clamped model: first bending within 1 % of Euler-Bernoulli (the tube is slender:
     shear and rotary inertia lower it by ~0.1 %), first torsion within 1 % of the shaft's
     sqrt(G / rho) / (4 L)."""
-    comp, _ = hex20_tube
-    full = full_clamped_modes(comp, n_modes=12)
-    area, inertia, _ = tube_properties()
-    bending = 1.875104**2 / (2 * np.pi) * np.sqrt(E * inertia / (RHO * area * L**4))
-    torsion = np.sqrt(G / RHO) / (4 * L)
-    assert full.frequency("bending") == pytest.approx(bending, rel=0.01)
-    assert full.frequency("torsion") == pytest.approx(torsion, rel=0.01)
+    assert_tube_frequencies(hex20_tube[0])
 
 
 def test_tube_mesh_and_beam_component_agree(hex20_tube):

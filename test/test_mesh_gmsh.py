@@ -16,7 +16,6 @@ import yaml
 
 from motoflex_ros.structures.beam import Material
 from motoflex_ros.structures.components import load_component, tube_component
-from motoflex_ros.structures.full_model import full_clamped_modes
 
 try:   # the wheel (a test dependency) loads libgmsh and its system libraries with ctypes
     import gmsh
@@ -31,8 +30,8 @@ from test_mesh_component import (  # noqa: E402  (the closed forms of the tube)
     G,
     L,
     T,
+    assert_tube_frequencies,
     timoshenko_tip,
-    tube_properties,
 )
 
 pytestmark = pytest.mark.slow
@@ -104,13 +103,7 @@ def test_gmsh_tube_tip_within_1_percent_and_converging(tubes):
 
 
 def test_gmsh_tube_bending_and_torsion_frequencies(tubes):
-    comp, _ = tubes[SIZES[0]]
-    full = full_clamped_modes(comp, n_modes=12)
-    area, inertia, _ = tube_properties()
-    bending = 1.875104**2 / (2 * np.pi) * np.sqrt(E * inertia / (RHO * area * L**4))
-    torsion = np.sqrt(G / RHO) / (4 * L)
-    assert full.frequency("bending") == pytest.approx(bending, rel=0.01)
-    assert full.frequency("torsion") == pytest.approx(torsion, rel=0.01)
+    assert_tube_frequencies(tubes[SIZES[0]][0])
 
 
 def test_gmsh_tube_and_beam_component_give_the_same_l_b_k(tubes):
