@@ -71,17 +71,23 @@ def test_report_provenance_equals_the_runs_records(run):
         assert fields["git commit"][1].startswith(commit)
 
 
-def test_report_provenance_says_what_a_run_does_not_record():
+def test_report_provenance_says_what_a_run_does_not_record(tmp_path):
+    """A run folder without provenance.json (runs older than it): every field it would give is
+    'not recorded', the others still come from status.json and metadata.yaml."""
+    import shutil
+
     from motoflex_ros.report.provenance import NOT_RECORDED, provenance_table
     if not (EXAMPLE / "status.json").is_file():
         pytest.skip("bags/example is not in this checkout")
-    assert not (EXAMPLE / "provenance.json").exists()
-    rows = {r[0].text: r for r in provenance_table(EXAMPLE).rows}
+    old = tmp_path / "example"
+    shutil.copytree(EXAMPLE, old, ignore=shutil.ignore_patterns("*.rrd", "report.html",
+                                                                "provenance.json"))
+    rows = {r[0].text: r for r in provenance_table(old).rows}
     for field in ("command", "seed", "sensor noise [m]", "git commit", "motoflex_ros version"):
         value, source = rows[field][1], rows[field][2]
         assert (value.kind, value.text) == ("missing", NOT_RECORDED)
         assert "no provenance.json" in source.text
-    assert rows["run status"][1].text == json.loads((EXAMPLE / "status.json").read_text())[
+    assert rows["run status"][1].text == json.loads((old / "status.json").read_text())[
         "status"]
 
 

@@ -98,7 +98,8 @@ def accuracy_bars_figure(errors):
     for ax in axes[:, 0]:
         ax.set_ylabel(r"$e_{RMS}$ [%] (log scale)")
     handles, labels = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside lower center", ncols=len(labels), fontsize=8)
+    fig.legend(handles, labels, loc="outside lower center", ncols=min(len(labels), 4),
+               fontsize=8)
     return fig
 
 
