@@ -199,6 +199,7 @@ node = Node("intruder")
 topic = sys.argv[2]
 msg, qos = _forged(topic)
 publisher = node.create_publisher(type(msg), topic, qos)
+print("advertised", flush=True)
 while publisher.get_subscription_count() == 0:
     time.sleep(0.05)
 time.sleep(0.2)   # the subscribers' side of the match
@@ -211,27 +212,36 @@ while True:       # stays in the graph (its node name is what the run reports) u
 
 class Intruder:
     """A node of nobody's run, in a run's ROS domain: a process of its own (so that its DDS
-    set-up does not depend on what this test process ran before), publishing one forged
-    message on ``topic`` once a subscriber of the run matched it."""
+    set-up does not depend on what this test process ran before), advertising ``topic`` and
+    publishing one forged message on it once a subscriber of the run matched it. The run may
+    stop at either: its graph watch sees the foreign publisher (about a second after discovery),
+    or its nodes take the forged message; both name the topic and the intruder."""
 
     def __init__(self, domain_id, topic):
         self.proc = subprocess.Popen(
             [sys.executable, "-c", INTRUDER, str(domain_id), topic,
              str(Path(__file__).resolve().parent)],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        self._line = []
-        threading.Thread(target=lambda: self._line.append(self.proc.stdout.readline()),
-                         daemon=True).start()
+        self.lines = []   # (line, monotonic time it arrived)
+        threading.Thread(target=self._read, daemon=True).start()
 
-    def wait_published(self, alive, hang_s=240.0):
-        """Wait until the message went out (returns True), or ``alive()`` turned false, or
-        the intruder ended (False). Discovery takes what it takes on a loaded machine: no
-        deadline but a guard against a hang."""
+    def _read(self):
+        for line in self.proc.stdout:
+            self.lines.append((line.strip(), time.monotonic()))
+
+    def wait_for(self, word, alive, hang_s=240.0):
+        """Monotonic time the intruder said ``word`` ('advertised', 'published'), or None when
+        ``alive()`` turned false or the intruder ended first. No deadline but a hang guard:
+        start-up and discovery take what they take on a loaded machine."""
         deadline = time.monotonic() + hang_s
-        while not self._line and alive() and self.proc.poll() is None:
+        while True:
+            said = [t for line, t in self.lines if line == word]
+            if said:
+                return said[0]
+            if not alive() or self.proc.poll() is not None:
+                return None
             assert time.monotonic() < deadline, "the intruder hangs"
-            time.sleep(0.05)
-        return bool(self._line) and self._line[0].startswith("published")
+            time.sleep(0.02)
 
     def close(self):
         if self.proc.poll() is None:
@@ -261,8 +271,8 @@ def _forged(topic):
 def test_foreign_publishers_fail_runs(tmp_path, faults):
     """Two campaigns at once, each with a fault: a foreign publisher on a topic (named in the
     message as the foreign node and the topic), or SIGTERM of the campaign itself. The fault's
-    moment is when the forged message went out (discovery of a new participant is not the
-    run's reaction time)."""
+    moment is when the intruder's publisher exists (its discovery is part of the run's
+    reaction: the graph watch or the forged message, whichever comes first)."""
     runs = Run.together(tmp_path, len(faults))
     intruders = {}
     try:
@@ -274,10 +284,10 @@ def test_foreign_publishers_fail_runs(tmp_path, faults):
                 intruders[fault] = Intruder(run.domain_id(), fault)
         for run, fault in zip(runs, faults):
             if fault in intruders:
-                published = intruders[fault].wait_published(lambda r=run: r._ended is None)
-                assert published, ("the run ended before the intruder matched it",
-                                   run._ended, intruders[fault].close())
+                advertised = intruders[fault].wait_for("advertised", lambda r=run: True)
+                assert advertised is not None, intruders[fault].close()
                 run.fault()
+                run.fault_at = advertised
         for run, fault in zip(runs, faults):
             run.assert_failed_cleanly("interrupted by SIGTERM" if fault == "SIGTERM" else
                                       f"foreign publisher on {fault}: node '/intruder'")
@@ -294,10 +304,10 @@ def test_vehicle_simulator_takes_results_only_from_its_identification(tmp_path):
         graph = NodeGraph([NodeSpec("vehicle_simulator")], lock.domain_id, tmp_path).start()
         intruder = Intruder(lock.domain_id, "/identification/results")
         try:
-            assert intruder.wait_published(lambda: "vehicle_simulator" not in graph.exited())
-            start = time.monotonic()
-            code = graph.wait("vehicle_simulator", FAULT_S)
-            assert time.monotonic() - start < FAULT_S
+            start = intruder.wait_for("advertised", lambda: True)
+            assert start is not None, intruder.close()
+            code = graph.wait("vehicle_simulator", FAULT_S + 30.0)   # a hang guard
+            assert code is not None and time.monotonic() - start < FAULT_S
         finally:
             intruder.close()
             graph.stop()

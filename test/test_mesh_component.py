@@ -325,8 +325,12 @@ def test_spider_nodes_move_rigidly_and_reactions_balance(hex20_tube):
 
 
 def test_craig_bampton_against_full_model(hex20_tube):
-    """The reduced model's static loaded-end response equals the full model's to 1e-9 (the
+    """The reduced model's static loaded-end response equals the full model's to round-off (the
     constraint modes are exact statically); its frequencies below 300 Hz within 0.5 %.
+
+    Round-off here is 1e-9 to 5e-9 relative: the full solve itself moves by that much under one
+    step of iterative refinement, and by a different amount with another OpenBLAS kernel (3e-9
+    against the reduced model with Prescott, 5e-9 with Haswell), so the test holds 1e-8.
 
     The tube's fixed-interface modes (both ends held) start at ~690 Hz, above the default
     600 Hz cut-off, so the default reduction keeps none and its 108 Hz bending comes from the
@@ -343,8 +347,8 @@ def test_craig_bampton_against_full_model(hex20_tube):
         f[end] = wrench
         full = spla.spsolve(k_c.tocsc(), f)[end]
         for model in (default, reduced):
-            np.testing.assert_allclose(model.static_end_motion(wrench), full, rtol=1e-9,
-                                       atol=1e-9 * abs(full).max())
+            np.testing.assert_allclose(model.static_end_motion(wrench), full, rtol=1e-8,
+                                       atol=1e-8 * abs(full).max())
     full_modes = full_clamped_modes(comp, n_modes=8).frequencies_hz
     low = full_modes[full_modes < 300.0]
     assert len(low) >= 2
