@@ -71,3 +71,34 @@ def test_running_mean_across_beta_wrap_analytic():
     assert beta_mean == pytest.approx(0.0005, abs=1e-15)
     assert b_mean == pytest.approx((length - l) * (np.sin(0.0015) + np.sin(-0.0005)) / 2,
                                    rel=1e-12)
+
+
+@pytest.mark.parametrize("offset", [0.0, 0.05, -0.03])
+@pytest.mark.parametrize("xz", Q0S)
+def test_axis_parallel_to_line_has_no_joint_and_its_distance_as_arm(xz, offset):
+    """An axis parallel to O-q0 (a straight tube twisting about itself: offset 0) meets the
+    line nowhere, so l is undefined (NaN) whatever the round-off; b is the distance of q0 from
+    the axis, the limit of eq. (7) (L - l) sin(beta) as beta -> 0. Decided by a tolerance: the
+    outcome must not depend on the BLAS kernel."""
+    q0 = np.array([xz[0], 0.0, xz[1]])
+    e0 = q0 / np.linalg.norm(q0)
+    normal = np.cross(e0, [0.0, 1.0, 0.0])            # in the x-z plane, across O-q0
+    joint = offset * normal
+    rot = rotation_from_vector(1e-3 * e0)
+    q = joint + rot @ (q0 - joint)
+    for wobble in (0.0, 1e-19, -3e-18):               # round-off in the fitted rotation
+        tilted = rot + wobble * np.outer(normal, [0.0, 1.0, 0.0])
+        axis = deformation_axis(q, tilted, q0)
+        assert np.isnan(axis.l) and np.isnan(axis.x_j)
+        assert min(axis.beta, np.pi - axis.beta) < 1e-12
+        assert axis.b == pytest.approx(abs(offset), abs=1e-12)
+
+
+def test_axis_tilted_a_micro_radian_still_has_its_joint():
+    """Only an axis parallel to within PARALLEL_TOL counts as parallel: one tilted by 1e-6 rad
+    gives its l, beta, b back (eqs. 3-7)."""
+    q0 = np.array([0.6, 0.0, 0.3])
+    q, rot = rigid_rotation(q0, 0.2, 1e-6, 1e-3)
+    axis = deformation_axis(q, rot, q0)
+    assert axis.l == pytest.approx(0.2, rel=1e-6)
+    assert axis.beta == pytest.approx(1e-6, rel=1e-6)

@@ -90,6 +90,14 @@ def _children(pid):
     return kids
 
 
+def _is_node(pid):
+    """The process runs a rig node (``python -m motoflex_ros.nodes.X --ros-args ...``). Other
+    children (the provenance's short ``git`` calls) and a node caught between fork and exec
+    (its environ is still the campaign's) are not nodes yet."""
+    argv = Path(f"/proc/{pid}/cmdline").read_bytes().split(b"\0")
+    return b"--ros-args" in argv and any(a.startswith(b"motoflex_ros.nodes.") for a in argv)
+
+
 def _environ(pid):
     raw = Path(f"/proc/{pid}/environ").read_bytes().split(b"\0")
     return dict(item.decode().split("=", 1) for item in raw if b"=" in item)
@@ -289,7 +297,7 @@ def test_campaign_sockets_on_loopback_and_explicit_domain_honoured(tmp_path):
                              "--component", "swingarm", "--out", str(bag), "--report", "none",
                              "--json"], env=_node_env(domain, tmp_path, TMPDIR=str(tmp_path)),
                             text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    seen, domains, profiles = {}, set(), set()
+    seen, node_envs = {}, {}
     try:
         deadline = time.monotonic() + 300
         while proc.poll() is None and time.monotonic() < deadline:
@@ -297,12 +305,10 @@ def test_campaign_sockets_on_loopback_and_explicit_domain_honoured(tmp_path):
             for pid in [proc.pid, *_children(proc.pid)]:
                 try:
                     seen.setdefault(pid, set()).update(process_sockets(pid, table))
-                    env = _environ(pid) if pid != proc.pid else None   # a node's start env
+                    if pid != proc.pid and _is_node(pid):
+                        node_envs[pid] = _environ(pid)   # a node's start env
                 except OSError:
                     continue   # ended meanwhile
-                if env is not None:
-                    domains.add(env.get("ROS_DOMAIN_ID"))
-                    profiles.add(env.get(PROFILE_ENV))
             time.sleep(0.5)
         out, err = proc.communicate(timeout=60)
     finally:
@@ -312,8 +318,9 @@ def test_campaign_sockets_on_loopback_and_explicit_domain_honoured(tmp_path):
     assert proc.returncode == 0, err
     assert "swingarm" in json.loads(out)   # stdout: the results as JSON, nothing else
     assert f"motoflex: ROS_DOMAIN_ID {domain} (from ROS_DOMAIN_ID); DDS on loopback" in err
-    assert domains == {str(domain)}
-    assert profiles == {str(loopback_profile())}
+    assert len(node_envs) >= 5, node_envs
+    assert {env.get("ROS_DOMAIN_ID") for env in node_envs.values()} == {str(domain)}
+    assert {env.get(PROFILE_ENV) for env in node_envs.values()} == {str(loopback_profile())}
     with_sockets = {pid: s for pid, s in seen.items() if s}
     assert len(with_sockets) >= 6, seen   # the campaign's own node + 5 node processes
     assert sum(map(len, with_sockets.values())) >= 18, seen

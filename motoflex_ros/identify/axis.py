@@ -21,6 +21,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+PARALLEL_TOL = 1e-9
+"""An axis within this angle [rad] of the line O-q0 is parallel to it: it meets the line nowhere
+(or everywhere), so l is undefined. Decided by a tolerance, not by an exact 0/0, whose outcome
+depends on the BLAS kernel's round-off (the straight tube's torsion axis gave l = nan on Haswell
+and Zen, l = 0.43 m on SkylakeX, Prescott and Sandybridge)."""
+
 __all__ = ["DeformationAxis", "plane_offset", "joint_position", "joint_distance", "axis_angle",
            "moment_arm", "axis_stiffness", "deformation_axis", "axis_in_plane"]
 
@@ -95,17 +101,32 @@ def deformation_axis(q, rotation, q0):
     """Eqs. (1)-(7) from the loaded end's position q [m] and orientation R (3x3).
 
     ``q`` and ``q0`` are in the component frame (clamp at O, symmetry plane x-z). Returns a
-    :class:`DeformationAxis`.
+    :class:`DeformationAxis`. An axis parallel to the line O-q0 (within PARALLEL_TOL, e.g. a
+    straight tube twisting about itself) has no joint on that line: l, x_j, z_j are NaN and b is
+    the distance of q0 from the axis.
     """
     q = np.asarray(q, dtype=float)
     q0 = np.asarray(q0, dtype=float)
     n = np.asarray(rotation, dtype=float)[:, 1]
     a4 = plane_offset(n, q)
+    beta = axis_angle(n, q0)
+    if _parallel_to_line(n, q0):
+        # eq. (7) as beta -> 0 with the axis at distance d from the line O-q0: b -> |d|
+        distance = abs(n[0] * q0[0] + n[2] * q0[2] + a4) / np.hypot(n[0], n[2])
+        return DeformationAxis(l=float("nan"), beta=beta, b=float(distance),
+                               x_j=float("nan"), z_j=float("nan"))
     x_j, z_j = joint_position(n, a4, q0)
     l = joint_distance(x_j, z_j, q0)
-    beta = axis_angle(n, q0)
     return DeformationAxis(l=float(l), beta=beta, b=float(moment_arm(l, beta, q0)),
                            x_j=float(x_j), z_j=float(z_j))
+
+
+def _parallel_to_line(n, q0):
+    """True when the axis (direction (n_z, -n_x) in the x-z plane) is within PARALLEL_TOL of
+    the line O-q0: the denominator of eq. (3), n . e0, vanishes relative to |n_xz|."""
+    n_xz = np.hypot(n[0], n[2])
+    across = abs(n[0] * q0[0] + n[2] * q0[2]) / np.hypot(q0[0], q0[2])
+    return n_xz > 0 and across <= PARALLEL_TOL * n_xz
 
 
 def axis_in_plane(axis, q0):
