@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from motoflex_ros.config import config_path
-from motoflex_ros.structures.bodies import split_bodies
+from motoflex_ros.structures.bodies import body_mass_properties, split_bodies
 from motoflex_ros.structures.components import load_component
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.model import load_vehicle
-from motoflex_ros.vehicle.superelement import follower_masks, rigid_field
+from motoflex_ros.vehicle.superelement import follower_masks
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "boundary-conditions.md"
 TOLERANCE = 1e-3     # [m], the vehicle's own tolerance for meeting points
@@ -130,18 +130,12 @@ def test_each_body_moves_with_the_vehicle_body_at_its_joints(vehicle, component)
 
 
 def _mass_following(component, body):
-    """Rigid-body mass [kg] and centre of mass [m] (vehicle frame) of the FE nodes that move
-    with vehicle ``body`` (consistent beam mass matrices, rigid parts included)."""
-    asm = component.structure.assemble()
-    free = np.flatnonzero(asm.free_index >= 0)
-    masks = follower_masks(component, lumped.SUPERELEMENT_PARENT[component.name],
-                           lumped.SUPERELEMENT_FOLLOWS.get(component.name))
-    gamma = (rigid_field(component.node_xyz + component.origin)
-             * np.repeat(masks[body], 6)[:, None])[free]
-    rigid = gamma.T @ (asm.M @ gamma)
-    mass = rigid[3, 3]
-    lever = -rigid[3:, :3] / mass            # [c]x (columns omega, v_0)
-    return mass, np.array([lever[2, 1], lever[0, 2], lever[1, 0]])
+    """Rigid-body mass [kg], centre of mass [m] (vehicle frame) and inertia about it [kg m^2]
+    of the FE nodes that the flexible motorcycle moves with vehicle ``body`` (consistent beam
+    mass matrices, rigid parts included; clamped and linked nodes keep their mass)."""
+    nodes = sorted(n for n, b in _follows(component).items() if b == body)
+    mass, com, inertia = body_mass_properties(component.structure, nodes)
+    return mass, com + component.origin, inertia
 
 
 def test_flexible_and_lumped_front_move_the_same_lower_fork(vehicle):
@@ -150,19 +144,20 @@ def test_flexible_and_lumped_front_move_the_same_lower_fork(vehicle):
     calipers, casting) follows the deformation: same mass and centre of mass to 1e-9."""
     assert lumped.MOUNTS["front_assembly"][0] == "lower_fork"
     body = next(b for b in vehicle.bodies if b.name == "lower_fork")
-    mass, com = _mass_following(load_component("front_assembly"), "lower_fork")
+    mass, com, _ = _mass_following(load_component("front_assembly"), "lower_fork")
     assert mass == pytest.approx(body.mass, rel=1e-9)
     assert np.allclose(com, body.com, rtol=0, atol=1e-9)
 
 
-@pytest.mark.xfail(strict=True, reason="the swingarm's FE bodies weigh 5.91 kg (main arm), "
-                   "0.28 kg (torque strut), 5.08 kg (wheel carrier) against the vehicle's "
-                   "5.0, 0.6 and 4.47 kg ([TUM] bodies): 11.27 kg of FE against 10.07 kg of "
-                   "rigid bodies, so the flexible motorcycle's elastic inertia is not that of "
-                   "the bodies it moves; the FE would need lighter members (new calibration "
-                   "against Table 1) or the vehicle the FE's masses (the paper gives neither)")
 def test_swingarm_bodies_weigh_what_the_vehicle_bodies_do(vehicle):
+    """The Paralever's vehicle bodies are the swingarm's FE bodies (main arm, torque strut,
+    wheel carrier): mass, centre of mass and inertia to 1e-9, so that what follows the
+    deformation in the flexible motorcycle is what its rigid bodies and the lumped models
+    move (until issue 12 the vehicle's were [TUM]'s 10.07 kg, the FE's 11.28 kg)."""
     comp = load_component("swingarm")
     bodies = {b.name: b for b in vehicle.bodies}
     for body in ("swingarm", "torque_strut", "wheel_carrier"):
-        assert _mass_following(comp, body)[0] == pytest.approx(bodies[body].mass, rel=1e-3)
+        mass, com, inertia = _mass_following(comp, body)
+        assert mass == pytest.approx(bodies[body].mass, rel=1e-9), body
+        assert np.allclose(com, bodies[body].com, rtol=0, atol=1e-9), body
+        assert np.allclose(inertia, bodies[body].inertia, rtol=0, atol=1e-9), body

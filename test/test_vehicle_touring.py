@@ -8,12 +8,14 @@ effect, weave frequency rising with speed to about 3.6 Hz, lightly damped at hig
 import numpy as np
 import pytest
 
-from motoflex_ros.config import config_path
+from motoflex_ros.config import config_path, load_yaml
+from motoflex_ros.inertia import composite_inertia, inertia_matrix
 from motoflex_ros.vehicle.linearize import linearize, linearize_at
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep
 
 KMH = np.arange(40.0, 210.0 + 1e-9, 1.0)
+PARALEVER = ("swingarm", "torque_strut", "wheel_carrier")
 
 
 @pytest.fixture(scope="module")
@@ -39,11 +41,36 @@ def test_mass_budget_published(touring):
     luggage = 12.5 + 12.5 + 15.0
     assert rider == pytest.approx(88.0, abs=1e-3)
     assert touring.total_mass() - rider - luggage == pytest.approx(250.0, abs=0.01)
-    # [TUM]'s frame x s = 193.4482 kg, of which the Telelever arm is now its own body
+    # [TUM]'s frame x s = 193.4482 kg and swingarm x s = 10.0678 kg: the Telelever arm is
+    # now a body of its own, and the Paralever's bodies (the swingarm FE's, 11.2752 kg) took
+    # their extra 1.2074 kg from the rear frame
     arm = touring.body("telelever_arm").mass
-    assert frame.mass + arm == pytest.approx(193.4482 + 22.2742 + luggage)
-    paralever = sum(touring.body(n).mass for n in ("swingarm", "torque_strut", "wheel_carrier"))
-    assert paralever == pytest.approx(8.0 * 1.25848, abs=1e-4)     # [TUM] swingarm x s
+    paralever = sum(touring.body(n).mass for n in PARALEVER)
+    assert frame.mass + arm + paralever == pytest.approx(193.4482 + 22.2742 + luggage
+                                                         + 8.0 * 1.25848)
+    assert paralever - 8.0 * 1.25848 == pytest.approx(1.2074, abs=1e-4)
+
+
+def test_paralever_masses_taken_from_the_rear_frame_keep_the_motorcycle(touring):
+    """The Paralever's bodies took the swingarm FE's masses; the rear frame (frame_engine) gave
+    the difference so that the two keep the mass, centre of mass and inertia they had as
+    [TUM]'s frame x s less the arm (190.4482 kg) plus [TUM]'s swingarm x s split into the
+    estimates 5.0 / 0.6 / 4.4678 kg (the YAML's previous bodies): the rigid motorcycle, whose
+    frozen Paralever rides with the frame, is the same to round-off (paper Sect. 5.1 keeps the
+    overall inertia in the same way when it splits the frame)."""
+    parts = load_yaml(config_path("vehicles", "touring"))["bodies"]["frame"]["parts"]
+    engine = parts["frame_engine"]
+    items = [(engine["mass"], engine["com"], inertia_matrix(engine["inertia"]))]
+    items += [(touring.body(n).mass, touring.body(n).com, touring.body(n).inertia)
+              for n in PARALEVER]
+    before = [(190.4482, [0.70624986, 0.0, 0.49848452],
+               inertia_matrix({"xx": 12.91859665, "yy": 25.76886545, "zz": 18.29786880,
+                               "xz": 3.07079685})),
+              (5.0, [0.345, 0.0, 0.330], np.diag([0.004, 0.095, 0.095])),
+              (0.6, [0.305, 0.0, 0.455], np.diag([0.0002, 0.0150, 0.0150])),
+              (4.4678, [0.040, 0.0, 0.315], np.diag([0.013, 0.020, 0.018]))]
+    for now, then in zip(composite_inertia(items), composite_inertia(before)):
+        assert np.allclose(now, then, rtol=0, atol=1e-9)
 
 
 def test_inertias_physical(touring):

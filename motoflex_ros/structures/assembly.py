@@ -17,7 +17,7 @@ from motoflex_ros.errors import ModelError
 from motoflex_ros.spatial import skew
 from motoflex_ros.structures.beam import global_element_matrices
 
-__all__ = ["Structure", "AssembledStructure", "rigid_body_mass"]
+__all__ = ["Structure", "AssembledStructure", "rigid_body_mass", "rigid_field"]
 
 
 def _concat(parts):
@@ -37,6 +37,20 @@ def rigid_body_mass(mass, inertia_cg, offset):
     d[:3, :3] = mass * np.eye(3)
     d[3:, 3:] = np.asarray(inertia_cg, float)
     return g.T @ d @ g
+
+
+def rigid_field(xyz):
+    """Rigid-motion field (6 n_nodes, 6) of nodes at ``xyz`` [m]: columns (omega, v_0).
+
+    Node translation v_0 + omega x r = v_0 - [r]x omega; node rotation omega.
+    """
+    n = len(xyz)
+    field = np.zeros((n, 6, 6))
+    r = np.asarray(xyz, float)
+    field[:, 0:3, 0:3] = -np.moveaxis(skew(r.T), -1, 0)
+    field[:, 0:3, 3:6] = np.eye(3)
+    field[:, 3:6, 0:3] = np.eye(3)
+    return field.reshape(6 * n, 6)
 
 
 @dataclass(frozen=True)

@@ -27,10 +27,11 @@ import scipy.sparse as sp
 
 from motoflex_ros.errors import ModelError
 from motoflex_ros.spatial import skew
-from motoflex_ros.structures.assembly import Structure, rigid_body_mass
+from motoflex_ros.structures.assembly import Structure, rigid_body_mass, rigid_field
 from motoflex_ros.structures.craig_bampton import craig_bampton
 
-__all__ = ["FlexibleBody", "BodyAssembly", "split_bodies", "reduce_bodies", "assemble_bodies"]
+__all__ = ["FlexibleBody", "BodyAssembly", "split_bodies", "body_mass_properties",
+           "reduce_bodies", "assemble_bodies"]
 
 
 @dataclass(frozen=True)
@@ -134,6 +135,28 @@ def _body_structure(structure, nodes):
         if node in local:
             sub.add_part(local[node], mass, inertia, cg)
     return sub, local
+
+
+def body_mass_properties(structure, nodes):
+    """Mass [kg], centre of mass [m] and inertia tensor about it [kg m^2] (structure frame) of
+    ``nodes`` (one body or several, :func:`split_bodies`) as one rigid body: the consistent
+    beam mass matrices and rigid parts on them moved by one rigid motion, the nodes clamped on
+    the bench or linked to another body included (a clamp or a spherical link holds a node,
+    it takes none of its mass away)."""
+    sub, _ = _body_structure(structure, nodes)
+    if sub.elements:
+        asm = sub.assemble()
+        gamma = rigid_field(sub.xyz)[asm.free_index >= 0]
+        rigid = gamma.T @ (asm.M @ gamma)
+    else:
+        rigid, _ = _bare_node(structure, nodes[0])
+        gamma = rigid_field(sub.xyz)
+        rigid = gamma.T @ rigid @ gamma
+    mass = rigid[3, 3]
+    lever = -rigid[3:, :3] / mass            # [c]x (rows v_0, columns omega)
+    com = np.array([lever[2, 1], lever[0, 2], lever[1, 0]])
+    inertia = rigid[:3, :3] - mass * (com @ com * np.eye(3) - np.outer(com, com))
+    return mass, com, (inertia + inertia.T) / 2
 
 
 def _bare_node(structure, node):

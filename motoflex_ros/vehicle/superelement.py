@@ -40,7 +40,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from motoflex_ros.errors import ModelError
-from motoflex_ros.spatial import cross, skew
+from motoflex_ros.spatial import cross
+from motoflex_ros.structures.assembly import rigid_field
 from motoflex_ros.structures.bodies import split_bodies
 from motoflex_ros.structures.clamped import reduce_clamped
 from motoflex_ros.vehicle.model import Body, Joint
@@ -106,20 +107,6 @@ class BoundSuperelement:
     def generalized_residual(self, system, frames, q, u, udot):
         """Force-element hook of the engine (see :func:`generalized_residual`)."""
         return generalized_residual(self, system, frames, q, u, udot)
-
-
-def rigid_field(xyz):
-    """Rigid-motion field (6 n_nodes, 6) of nodes at ``xyz`` [m]: columns (omega, v_0).
-
-    Node translation v_0 + omega x r = v_0 - [r]x omega; node rotation omega.
-    """
-    n = len(xyz)
-    field = np.zeros((n, 6, 6))
-    r = np.asarray(xyz, float)
-    field[:, 0:3, 0:3] = -np.moveaxis(skew(r.T), -1, 0)
-    field[:, 0:3, 3:6] = np.eye(3)
-    field[:, 3:6, 0:3] = np.eye(3)
-    return field.reshape(6 * n, 6)
 
 
 def _assembled_field(asm, gamma_nodes):
