@@ -122,6 +122,10 @@ def print_hinges(result, stream):
                     + [f"{max(fit.errors.values()):.2f}"])
         print_table(["change", "weave f %", "weave Re %", "wobble f %", "wobble Re %",
                      "largest %"], rows, stream)
+        spring = fit.spring_errors
+        stream.write("the FE model's whole end stiffness (6 x 6, massless) in the hinge's "
+                     "place: " + (", ".join(f"{q} {v:.2f} %" for q, v in spring.items())
+                                  if spring else "weave or wobble not followed") + "\n")
 
 
 def details(result):
