@@ -272,18 +272,19 @@ def _compliance_ratio(component, entry, wrench=None):
 
 
 SWINGARM_CAUSE = (
-    "the swingarm hardly takes part in the wobble (0.001 there) and the fitted hinge carries "
-    "0.15-0.21 of the FE compliance under the weave wrench at 60-160 km/h (axis 98 deg to "
-    "O-q0, 0.8 cm from q0, k 5.1e4 against static's 1.3e5). No single hinge can do both: the "
-    "best hinge carrying the FE compliance under the weave wrench (100 km/h; every axis, arms "
-    "-1 to 1 m) reaches J 4.9 % (weave f 2.2, Re 4.0 %), above 2 % and static's 2.6 %, and the "
-    "hinge deflecting as the FE model under it (vehicle_load, weave) 7.7 % (weave Re 7.6 %). "
-    "Not the hinge's place: the FE model's whole end stiffness (6 x 6, massless) put where "
-    "the hinge is reaches 0.12 / 0.24 / 0.00 / 0.16 %. It is the single hinge: the swingarm's "
-    "antisymmetric end compliance has singular values 1 : 0.60 : 0.03 (front assembly "
-    "1 : 0.05 : 0.002, a hinge), one deflection shape cannot carry the rear wheel's lateral, "
-    "camber and steer compliance together (FE under the weave wrench 0.53 mm, 5.6 mrad, "
-    "-3.3 mrad per kN; fitted hinge -0.14 mm, 0.9 mrad, -3.4 mrad)")
+    "the swingarm hardly takes part in the wobble (0.000 at 100 km/h, 0.02 at 60 and 160) and "
+    "under the weave wrench the fitted hinge carries 0.16-0.22 of the FE compliance at "
+    "60-160 km/h (axis 98 deg to O-q0, 0.8 cm from q0, k 5.1e4 against static's 1.3e5). No "
+    "single hinge does both: the best hinge carrying the FE compliance under the weave wrench "
+    "(100 km/h; every axis, arms -1 to 1 m) reaches J 4.9 % (weave f 2.2, Re 4.0 %), above "
+    "2 % and static's 2.7 %, the hinge deflecting as the FE model under it (vehicle_load "
+    "from the weave) 7.7 % (weave Re 7.6 %). Not the hinge's place: the FE model's whole end "
+    "stiffness (6 x 6, massless) where the hinge is reaches 0.12 / 0.24 / 0.00 / 0.16 %. It "
+    "is the single hinge, one deflection shape for every load: the swingarm's antisymmetric "
+    "end compliance has singular values 1 : 0.60 : 0.03 (front assembly 1 : 0.05 : 0.002, "
+    "a hinge). Under the weave wrench the FE end moves 0.53 mm, camber 5.6 mrad, steer "
+    "-3.3 mrad per kN; the fitted hinge keeps the steer (-3.4) and drops the rest (-0.03 mm, "
+    "0.8 mrad)")
 
 
 @pytest.mark.parametrize("component", [
