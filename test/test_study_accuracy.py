@@ -317,16 +317,9 @@ def test_fe_end_stiffness_in_the_hinges_place(verb_run):
     assert frame["fitted"]["wobble_re"] < 0.5 * spring["frame"]["wobble_re"]
 
 
-def test_frame_fit_has_one_answer(verb_run):
-    """The tie-break (the hinge nearest the static one among those that fit alike) gives the
-    frame's ill-conditioned fit one answer: the searches from the static and from the
-    vehicle_load hinge end within 0.5 deg and 5 mm of each other, and the fitted hinge has the
-    FE model's lateral compliance of the steering head (b^2 / k within 5 %; ours 0.97)."""
-    fit = verb_run[3]["frame"]["fit"]
-    ends = [v["hinges"]["frame"] for v in fit["starts"].values()]
-    assert len(ends) == 2
-    assert math.degrees(abs(ends[0]["beta"] - ends[1]["beta"])) <= 0.5, ends
-    assert abs(ends[0]["b"] - ends[1]["b"]) <= 0.005, ends
+def test_frame_fitted_hinge_has_the_fe_lateral_compliance_of_the_head(verb_run):
+    """What weave and wobble determine of the frame's hinge: the steering head's lateral
+    compliance b^2 / k, within 5 % of the FE model's (ours 0.97)."""
     lateral = np.array([0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
     assert _compliance_ratio("frame", verb_run[3]["frame"], lateral) == pytest.approx(
         1.0, abs=0.05)
