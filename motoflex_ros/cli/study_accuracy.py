@@ -10,11 +10,12 @@ km/h and prints e_RMS% (eq. 18) of weave and wobble frequency and real part. The
 the paper's (state_of_the_art, static, torsion, bending) and three single hinges beyond it:
 road_load and vehicle_load (bench tests loaded through a lever at the tyre contact point, and
 by the wrench the component carries in the flexible motorcycle's wobble) and fitted (the hinge
-fitted to the flexible motorcycle). Then the hinges (l, beta, b, k) of each and the
-conditioning of the fitted one. --json prints {case: {variant: {"weave_f", "weave_re",
-"wobble_f", "wobble_re"}}} in percent; --details FILE writes the hinges, the fits (start,
-objective, conditioning) and the load tests as JSON. --plot DIR writes the Fig. 8 bars and
-the Fig. 9 curves of the front assembly.
+fitted to the flexible motorcycle). Then the hinges (l, beta, b, k) of each, the
+conditioning of the fitted one and, beside it, the errors of the motorcycle with the FE
+model's whole end stiffness in the hinge's place. --json prints {case: {variant: {"weave_f",
+"weave_re", "wobble_f", "wobble_re"}}} in percent; --details FILE writes the hinges, the fits
+(start, objective, conditioning, end_stiffness_errors) and the load tests as JSON. --plot DIR
+writes the Fig. 8 bars and the Fig. 9 curves of the front assembly.
 """
 import json
 import math
