@@ -155,3 +155,125 @@ def test_fit_objective_and_errors_are_the_evaluations(setting):
     for a, b in zip(batched, single):
         assert a == pytest.approx(b, abs=1e-9)
     assert objective_of(batched[1]) < 1e-6
+
+
+def test_spring_pencil_with_a_hinges_compliance_is_that_hinge(setting):
+    """Second formulation of the spring chain: a 6 x 6 spring whose compliance is the hinge's
+    (s s^T / k) plus 1e-12 in every direction is that hinge as a stiff penalty instead of a
+    constraint; its four oscillatory eigenvalues of highest frequency equal the hinge pencil's
+    (without the constraint's second-order load term, which a straight chain does not have)
+    to 1e-4 (the penalty's own error is up to 4e-5 at 1e-12; smaller ones lose more to
+    rounding)."""
+    from dataclasses import replace
+
+    from motoflex_ros.study.continuation import nearest_eigenpairs
+
+    vehicle, components, identified = setting
+    component = "swingarm"
+    pencil = HingePencil(vehicle, components, identified, [component])
+    pencil.slots = [replace(s, load=np.zeros(6)) for s in pencil.slots]
+    site = lumped.site_of(components[component])
+    hinge = static_hinge(identified, component, site)
+    point, axis = hinge_line(site, hinge)
+    twist = np.concatenate([np.cross(axis, site.origin + site.q0 - point), axis])
+    stiffness = np.linalg.inv(np.outer(twist, twist) / hinge.k + 1e-12 * np.eye(6))
+    speeds = SPEEDS[[0, 9, -1]]
+    E, A = pencil.pencil([{component: (point, axis, hinge.k)}], speeds)
+    E_s, A_s = pencil.spring_pencil({component: stiffness}, speeds)
+    for i in range(len(speeds)):
+        hinge_values = np.linalg.eigvals(np.linalg.solve(E[0, i], A[0, i]))
+        targets = hinge_values[np.argsort(-hinge_values.imag)][:4]   # the four fastest
+        spring_values, _ = nearest_eigenpairs(A_s[None, i], targets, descriptor=E_s[None, i])
+        np.testing.assert_allclose(spring_values[0], targets, rtol=1e-4)
+
+
+def test_no_single_swingarm_hinge_with_the_fe_compliance_fits(setting):
+    """A finding (the swingarm's xfail in test_study_accuracy): the best single hinge that
+    carries the FE model's compliance under the wrench the swingarm carries in the flexible
+    motorcycle's weave at 100 km/h (every axis in 5 deg, arms -1 to 1 m, then Nelder-Mead)
+    fits weave and wobble no better than J 4 % (ours 4.9 %), worse than the static hinge;
+    the FE model's whole end stiffness in the hinge's place fits within 0.3 %."""
+    from motoflex_ros.study.fitted import end_compliance, fit_under_compliance, hinge_compliance
+    from motoflex_ros.study.lumped_accuracy import flexible_motorcycle
+    from motoflex_ros.study.vehicle_load import mode_wrench
+
+    vehicle, components, identified = setting
+    component = "swingarm"
+    site = lumped.site_of(components[component])
+    lin, reference = flexible_motorcycle(vehicle, components, identified, [component], SPEEDS)
+    problem = HingeFitProblem(vehicle, components, identified, [component], reference, SPEEDS)
+    w = mode_wrench(lin, component, 100.0 / 3.6, "weave", float(np.linalg.norm(site.q0)))
+    w = w.direction
+    compliance = end_compliance(components[component])
+    target = float(w @ compliance @ w)
+    hinge, errors = fit_under_compliance(problem, component, w, target,
+                                         np.radians(np.arange(2.5, 180.0, 5.0)),
+                                         np.arange(-1.0, 1.01, 0.1))
+    assert hinge_compliance(site, hinge, w) == pytest.approx(target, rel=1e-9)
+    static = problem.errors([problem.static])[0]
+    assert objective_of(errors) > max(4.0, objective_of(static)), (errors, static)
+    spring = problem.spring_errors({component: np.linalg.inv(compliance)})
+    assert max(spring.values()) <= 0.3, spring
+
+
+VALLEY_START = (math.radians(80.0), -0.269, 8.6e5)
+"""A frame hinge in the valley of equal fits (axis 80 deg to O-q0, b, k) [rad, m, N m/rad]."""
+
+
+@pytest.fixture(scope="module")
+def frame_fits(setting):
+    """The frame fitted to the flexible motorcycle from the static hinge and from VALLEY_START,
+    with the tie-break and without it: {tie: HingeFit}."""
+    from motoflex_ros.study import fitted
+    from motoflex_ros.study.lumped_accuracy import flexible_reference
+
+    vehicle, components, identified = setting
+    site = lumped.site_of(components["frame"])
+    reference = flexible_reference(vehicle, components, identified, ["frame"], SPEEDS)
+    starts = {"valley": {"frame": hinge_from_line(site, *VALLEY_START)}}
+    out, tie = {}, fitted.TIE_BREAK
+    try:
+        for weight in (tie, 0.0):
+            fitted.TIE_BREAK = weight
+            out[weight] = fit_hinges(vehicle, components, identified, ["frame"], reference,
+                                     SPEEDS, starts=starts)
+    finally:
+        fitted.TIE_BREAK = tie
+    return out
+
+
+def test_tie_break_keeps_the_frames_fit_a_hinge(frame_fits):
+    """Without the tie-break the search from a hinge in the frame's valley slides towards
+    b -> 0, k -> 0 (the head sliding sideways without turning, b^2 / k kept), where J is
+    lower; with it both searches end at hinges with k within a factor 2 of static's, b^2 / k
+    within 5 % of each other and J within 0.01 %."""
+    from motoflex_ros.study.fitted import TIE_BREAK
+
+    free = frame_fits[0.0].starts["valley"]["hinges"]["frame"]
+    assert free["k"] < 1e3 and abs(free["b"]) < 0.01, free
+    fit = frame_fits[TIE_BREAK]
+    static_k = fit.static["frame"].k
+    ends = [v["hinges"]["frame"] for v in fit.starts.values()]
+    for end in ends:
+        assert 0.5 * static_k < end["k"] < 2.0 * static_k, end
+    lateral = [end["b"] ** 2 / end["k"] for end in ends]
+    assert lateral[0] == pytest.approx(lateral[1], rel=0.05)
+    objectives = [v["objective"] for v in fit.starts.values()]
+    assert abs(objectives[0] - objectives[1]) < 0.01, objectives
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "ours (10 km/h grid): the frame's fit has no single answer. From the static hinge (143 deg) "
+    "the search ends at 40 deg, from 80 deg at 124 deg, b -0.22 m and k 6.0e5-6.1e5 N m/rad "
+    "both, J 0.359 % both on the search speeds: weave and wobble see only the head's lateral "
+    "compliance b^2 / k, and the loads the frame carries do not tell axes apart either (a "
+    "lateral force at the head in wobble and in weave, moments 1 cm x F or less). The "
+    "tie-break (J + 0.001 % per step from static) is too weak to join the two ends of the "
+    "valley, which lie on either side of the static axis (19 and 73 deg from it)"))
+def test_frames_fit_has_one_answer(frame_fits):
+    """The frame's fit ends at the same axis (within 2 deg) from the static hinge and from a
+    hinge elsewhere in the valley."""
+    from motoflex_ros.study.fitted import TIE_BREAK
+
+    ends = [v["hinges"]["frame"]["beta"] for v in frame_fits[TIE_BREAK].starts.values()]
+    assert math.degrees(abs(ends[0] - ends[1])) <= 2.0, [math.degrees(b) for b in ends]

@@ -10,11 +10,12 @@ km/h and prints e_RMS% (eq. 18) of weave and wobble frequency and real part. The
 the paper's (state_of_the_art, static, torsion, bending) and three single hinges beyond it:
 road_load and vehicle_load (bench tests loaded through a lever at the tyre contact point, and
 by the wrench the component carries in the flexible motorcycle's wobble) and fitted (the hinge
-fitted to the flexible motorcycle). Then the hinges (l, beta, b, k) of each and the
-conditioning of the fitted one. --json prints {case: {variant: {"weave_f", "weave_re",
-"wobble_f", "wobble_re"}}} in percent; --details FILE writes the hinges, the fits (start,
-objective, conditioning) and the load tests as JSON. --plot DIR writes the Fig. 8 bars and
-the Fig. 9 curves of the front assembly.
+fitted to the flexible motorcycle). Then the hinges (l, beta, b, k) of each, the
+conditioning of the fitted one and, beside it, the errors of the motorcycle with the FE
+model's whole end stiffness in the hinge's place. --json prints {case: {variant: {"weave_f",
+"weave_re", "wobble_f", "wobble_re"}}} in percent; --details FILE writes the hinges, the fits
+(start, objective, conditioning, end_stiffness_errors) and the load tests as JSON. --plot DIR
+writes the Fig. 8 bars and the Fig. 9 curves of the front assembly.
 """
 import json
 import math
@@ -122,6 +123,10 @@ def print_hinges(result, stream):
                     + [f"{max(fit.errors.values()):.2f}"])
         print_table(["change", "weave f %", "weave Re %", "wobble f %", "wobble Re %",
                      "largest %"], rows, stream)
+        spring = fit.spring_errors
+        stream.write("the FE model's whole end stiffness (6 x 6, massless) in the hinge's "
+                     "place: " + (", ".join(f"{q} {v:.2f} %" for q, v in spring.items())
+                                  if spring else "weave or wobble not followed") + "\n")
 
 
 def details(result):

@@ -27,6 +27,15 @@ This is exact, not a reduction: for the hinge a lumped variant builds, the penci
 engine's direct linearization to rounding (test_study_fitted). R_x(0) does not depend on the
 speed (checked at two speeds); the chain motorcycle's joint coordinates stay independent
 (appended joints are, :func:`motoflex_ros.vehicle.dynamics._loop_dependent`).
+
+The same chain with a full 6 x 6 spring K (and damper gamma K) on its six coordinates instead
+of the hinge constraint is the lumped motorcycle with the component's whole end stiffness in the
+hinge's place, massless (:meth:`HingePencil.spring_pencil`; K = C^-1, C the clamped FE model's
+end compliance at q0: its static condensation on the loaded end). It tells how much of a
+hinge's misfit is the single hinge (one deflection shape for every load) and how much the rest
+of the lumped model (the hinge's place, the component's mass kept rigid). Linearized about the
+undeflected chain: the springs' deflection under the straight-running load (K^-1 R_x(0), below
+1e-4 m and rad here) is left out.
 """
 from dataclasses import dataclass, replace
 
@@ -187,12 +196,33 @@ class HingePencil:
         ``hinges``: a list (runs) of {component: (point [m], unit axis, k [N m/rad])} in the
         vehicle frame; c = gamma k (gamma = 0.001 s, the static models' damping).
         """
-        speeds = np.atleast_1d(np.asarray(speeds, float))
-        powers = speeds[:, None] ** np.arange(len(self.A_coeffs))[None, :]
-        e = np.einsum("sp,pij->sij", powers, self.E_coeffs)
-        a = np.einsum("sp,pij->sij", powers, self.A_coeffs)
+        e, a = self._chain_pencil(speeds)
         right, left, diag = self._projections(hinges)
         left_t = np.swapaxes(left, 1, 2)[:, None]
         e_h = left_t @ (e[None] @ right[:, None])
         a_h = left_t @ (a[None] @ right[:, None]) + diag[:, None]
         return e_h, a_h
+
+    def _chain_pencil(self, speeds):
+        speeds = np.atleast_1d(np.asarray(speeds, float))
+        powers = speeds[:, None] ** np.arange(len(self.A_coeffs))[None, :]
+        return (np.einsum("sp,pij->sij", powers, self.E_coeffs),
+                np.einsum("sp,pij->sij", powers, self.A_coeffs))
+
+    def spring_pencil(self, stiffness, speeds):
+        """(E, A), each (speeds, n_chain, n_chain), of the chain motorcycle with a 6 x 6 spring
+        on each component's chain (module docstring).
+
+        ``stiffness``: {component: K (6, 6) at q0 in vehicle axes, rows and columns (u_x, u_y,
+        u_z, theta_x, theta_y, theta_z) [N/m, N/rad, N m/m, N m/rad]}; damping gamma K.
+        """
+        e, a = self._chain_pencil(speeds)
+        a = a.copy()
+        for s in self.slots:
+            k = np.asarray(stiffness[s.component], float)
+            if k.shape != (6, 6) or not np.all(np.isfinite(k)):
+                raise ModelError(f"component '{s.component}': the end stiffness must be a "
+                                 "finite 6 x 6 matrix")
+            a[:, s.rate[:, None], s.pos[None, :]] -= k
+            a[:, s.rate[:, None], s.rate[None, :]] -= GAMMA * k
+        return e, a
