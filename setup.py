@@ -54,8 +54,9 @@ setup(
         "record": ["mcap>=1.2", "mcap-ros2-support>=0.5", "rosbags>=0.10", "rerun-sdk>=0.41"],
         "scale": ["dask[distributed]>=2024.1"],
         # gmsh: a hollow tube meshed as an engineer's FE tool does (test_mesh_gmsh.py)
+        # pytest-xdist: ./test.sh runs the suite on two workers (test/conftest.py groups it)
         "test": ["pytest>=8", "ruff>=0.6", "pytest-benchmark>=4", "pillow>=10", "sympy>=1.12",
-                 "gmsh>=4.11"],
+                 "gmsh>=4.11", "pytest-xdist>=3.5"],
     },
     zip_safe=True,
     maintainer="motoflex_ros developers",

@@ -6,4 +6,6 @@ cd "$(dirname "$0")"
 source tools/ensure_env.sh
 export ROS_LOG_DIR="${ROS_LOG_DIR:-$(mktemp -d)}"
 rerun analytics disable >/dev/null 2>&1 || true
-python -m pytest -q "$@"
+# Two workers (xdist): the ROS graph tests one after the other on one, the numerical tests beside
+# them (test/conftest.py); `./test.sh -n 0` runs everything in one process.
+python -m pytest -q -n 2 --dist loadscope "$@"
