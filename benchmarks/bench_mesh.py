@@ -44,13 +44,13 @@ def _status_mb(field):
 
 
 def peak_mb():
-    """Resident memory high-water mark of this process since the last reset [MB]."""
+    """Resident memory high-water mark of this process since the last reset [MiB]."""
     return _status_mb("VmHWM")
 
 
 def reset_peak():
     """Start a new high-water mark at the current resident size (Linux /proc/self/clear_refs);
-    returns the resident size then [MB]."""
+    returns the resident size then [MiB]."""
     gc.collect()
     try:
         with open("/proc/self/clear_refs", "w") as refs:
@@ -130,20 +130,20 @@ def main():
           f"solver {solver}, {default_threads()} MKL thread(s)")
     print(f"  mesh made {t_mesh:.2f} s, written (VTU) {t_write:.2f} s, read {t_read:.2f} s")
     print(f"  assembly K and M {t_assembly:.2f} s; spiders eliminated {t_spiders:.2f} s; "
-          f"peak memory {mem_assembled:,.0f} MB")
+          f"peak memory {mem_assembled:,.0f} MiB")
     print(f"  Craig-Bampton ({n_modes} modes up to {f_top:.0f} Hz + "
-          f"{len(boundary)} constraint modes) {t_cb:.2f} s; peak memory {mem_cb:,.0f} MB "
-          f"({mem_cb - rss_cb:,.0f} MB above the {rss_cb:,.0f} MB held before)")
+          f"{len(boundary)} constraint modes) {t_cb:.2f} s; peak memory {mem_cb:,.0f} MiB "
+          f"({mem_cb - rss_cb:,.0f} MiB above the {rss_cb:,.0f} MiB held before)")
     base = t_lu + t_eig
     print(f"  floor: factorisation of K_ii {t_lu:.2f} s ({entries:,} factor entries) + 20-mode "
           f"shift-invert eigsh {t_eig:.2f} s = {base:.2f} s (slicing K_ii, M_ii {t_slice:.2f} s "
-          f"more); peak memory {mem_floor:,.0f} MB ({mem_floor - rss_floor:,.0f} MB above "
-          f"{rss_floor:,.0f} MB)")
+          f"more); peak memory {mem_floor:,.0f} MiB ({mem_floor - rss_floor:,.0f} MiB above "
+          f"{rss_floor:,.0f} MiB)")
     print(f"  reduction / floor: time {t_cb / base:.2f}x, peak memory {mem_cb / mem_floor:.2f}x "
           f"(above what was held {(mem_cb - rss_cb) / (mem_floor - rss_floor):.2f}x)")
     total = t_read + t_assembly + t_spiders + t_cb
     print(f"  file to reduced model {total:.2f} s ({math.ceil(asm.K.shape[0] / total):,} DOFs/s)"
-          f"; whole run peak {_status_mb('VmPeak'):,.0f} MB virtual")
+          f"; whole run peak {_status_mb('VmPeak'):,.0f} MiB virtual")
 
 
 if __name__ == "__main__":

@@ -18,6 +18,7 @@ thread count only through round-off.
 """
 import ctypes
 import os
+from functools import lru_cache
 
 import numpy as np
 import scipy.sparse as sp
@@ -47,11 +48,19 @@ def default_threads():
         return 1
 
 
+@lru_cache(maxsize=1)
+def _mkl_binding():
+    """The ctypes binding of MKL that pypardiso makes (its library lookup spawns processes:
+    done once)."""
+    import pypardiso
+    return pypardiso.PyPardisoSolver(mtype=2)
+
+
 def pardiso_available():
     """True when pypardiso imports and finds MKL's runtime library."""
     try:
-        import pypardiso
-        pypardiso.PyPardisoSolver()
+        import pypardiso  # noqa: F401  (not cached: a blocked import must count)
+        _mkl_binding()
     except (ImportError, OSError):
         return False
     return True
@@ -111,7 +120,6 @@ class _PardisoFactor(SparseFactor):
     MTYPE = 2   # real symmetric positive definite
 
     def __init__(self, matrix, threads):
-        import pypardiso
         super().__init__(matrix.shape)
         upper = sp.triu(sp.csr_matrix(matrix), format="csr")
         upper.sum_duplicates()
@@ -122,7 +130,7 @@ class _PardisoFactor(SparseFactor):
         self._ia = upper.indptr.astype(np.int32)
         self._ja = upper.indices.astype(np.int32)
         del upper
-        binding = pypardiso.PyPardisoSolver(mtype=self.MTYPE)
+        binding = _mkl_binding()
         self._lib = binding.libmkl
         self._call = binding._mkl_pardiso
         self._pt = np.zeros(64, np.int64)
