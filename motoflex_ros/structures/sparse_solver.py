@@ -145,8 +145,6 @@ class _PardisoFactor(SparseFactor):
         self._alive = True
         self._run(12, np.zeros((self.shape[0], 1)))
         self.factor_entries = int(self._iparm[17])
-        # iparm(15..17) [kB]: peak of analysis, permanent, peak of factorisation and solve
-        self.memory_mb = max(int(self._iparm[14]), int(self._iparm[15] + self._iparm[16])) / 1024
 
     def _run(self, phase, b):
         b = np.asfortranarray(b, float)
