@@ -52,7 +52,10 @@ setup(
     extras_require={
         "ros": ROS_JAZZY_WHEELS,
         "record": ["mcap>=1.2", "mcap-ros2-support>=0.5", "rosbags>=0.10", "rerun-sdk>=0.41"],
-        "scale": ["dask[distributed]>=2024.1"],
+        # pypardiso: MKL PARDISO for the Craig-Bampton of large meshes (issue 15; SuperLU when
+        # absent); MKL ships wheels for x86-64 only
+        "scale": ["dask[distributed]>=2024.1",
+                  "pypardiso>=0.4.7; platform_machine == 'x86_64' or platform_machine == 'AMD64'"],
         # gmsh: a hollow tube meshed as an engineer's FE tool does (test_mesh_gmsh.py)
         # pytest-xdist: ./test.sh runs the suite on two workers (test/conftest.py groups it)
         "test": ["pytest>=8", "ruff>=0.6", "pytest-benchmark>=4", "pillow>=10", "sympy>=1.12",

@@ -8,12 +8,14 @@ DOFs into boundary b (all DOFs of the interface nodes, kept physical) and interi
     Psi = -K_ii^-1 K_ib (static constraint modes),  K_ii Phi = M_ii Phi Omega^2 (fixed-interface
     normal modes, mass-normalised).
 
-One sparse LU of K_ii (scipy splu in symmetric mode) serves both the constraint modes and the
-shift-invert eigsh (sigma = 0, OPinv = K_ii^-1). The reduction carries no damping matrix, only
-the ratio zeta (one for all modes, or one per mode): the clamped reduced model gives each of
-its own modes its ratio (:func:`motoflex_ros.structures.clamped.modal_damping`), which damping
-on the fixed-interface modes alone would not (the loaded end's boundary DOFs would stay
-undamped).
+One sparse factorisation of K_ii (:func:`motoflex_ros.structures.sparse_solver.factorize_spd`:
+MKL PARDISO's Cholesky when pypardiso is installed, else scipy's SuperLU) serves both the
+constraint modes (all boundary columns in one solve) and the shift-invert eigsh (sigma = 0,
+OPinv = K_ii^-1); it is freed before the reduced matrices are formed. The reduction carries no
+damping matrix, only the ratio zeta (one for all modes, or one per mode): the clamped reduced
+model gives each of its own modes its ratio
+(:func:`motoflex_ros.structures.clamped.modal_damping`), which damping on the fixed-interface
+modes alone would not (the loaded end's boundary DOFs would stay undamped).
 """
 from dataclasses import dataclass
 
@@ -22,8 +24,10 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from motoflex_ros.errors import ModelError
+from motoflex_ros.structures.sparse_solver import factorize_spd
 
-__all__ = ["CraigBamptonModel", "craig_bampton", "symmetric_lu", "checked_damping_ratio"]
+__all__ = ["CraigBamptonModel", "craig_bampton", "interior_blocks", "fixed_interface_modes",
+           "checked_damping_ratio"]
 
 
 @dataclass(frozen=True)
@@ -51,18 +55,26 @@ class CraigBamptonModel:
         return len(self.frequencies_hz)
 
 
-def symmetric_lu(matrix):
-    """Sparse LU of a symmetric matrix in SuperLU's symmetric mode (design.md Sect. 8)."""
-    try:
-        return spla.splu(sp.csc_matrix(matrix), permc_spec="MMD_AT_PLUS_A",
-                         diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-    except RuntimeError as exc:
-        raise ModelError(f"the interior stiffness is singular ({exc}); is the structure "
-                         "connected and held by its interface nodes?") from None
+def interior_blocks(K, M, boundary):
+    """(interior indices, K_ii, M_ii, K_ib dense) of (K, M) for the ``boundary`` DOFs, each
+    block sliced straight from K and M (no full-size temporary)."""
+    K, M = sp.csc_matrix(K), sp.csc_matrix(M)
+    interior = np.setdiff1d(np.arange(K.shape[0]), boundary)
+    k_ib = K[:, boundary].tocsr()[interior].toarray()
+    return (interior, _principal(K, interior), _principal(M, interior), k_ib)
 
 
-def _fixed_interface_modes(k_ii, m_ii, lu, n_modes, f_max_hz):
-    """Lowest fixed-interface modes up to f_max_hz (at most n_modes), mass-normalised."""
+def _principal(matrix, keep):
+    """The principal submatrix matrix[keep][:, keep] (CSC) via one selection product."""
+    n = matrix.shape[0]
+    select = sp.csc_matrix((np.ones(len(keep)), (keep, np.arange(len(keep)))),
+                           shape=(n, len(keep)))
+    return (select.T @ matrix @ select).tocsc()
+
+
+def fixed_interface_modes(k_ii, m_ii, factor, n_modes, f_max_hz):
+    """Lowest fixed-interface modes up to f_max_hz (at most n_modes), mass-normalised:
+    (frequencies [Hz], Phi (n_i, n_kept)). ``factor`` is K_ii's :class:`SparseFactor`."""
     n_int = k_ii.shape[0]
     if n_modes <= 0 or n_int == 0:
         return np.zeros(0), np.zeros((n_int, 0))
@@ -70,11 +82,11 @@ def _fixed_interface_modes(k_ii, m_ii, lu, n_modes, f_max_hz):
         import scipy.linalg as sla
         w2, phi = sla.eigh(k_ii.toarray(), m_ii.toarray())
     else:
-        op_inv = spla.LinearOperator(k_ii.shape, matvec=lu.solve, dtype=float)
         # a fixed start vector makes ARPACK, and so the reduced model, the same in every process
         start = np.linspace(1.0, 2.0, n_int)
-        w2, phi = spla.eigsh(k_ii, k=n_modes, M=m_ii, sigma=0.0, OPinv=op_inv, which="LM",
-                             v0=start)
+        # shift-invert about 0: ARPACK uses only OPinv and M, so A is the factor's shape alone
+        w2, phi = spla.eigsh(factor.operator(), k=n_modes, M=m_ii, sigma=0.0,
+                             OPinv=factor.operator(), which="LM", v0=start)
     order = np.argsort(w2)
     w2, phi = w2[order], phi[:, order]
     freq = np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi)
@@ -86,7 +98,7 @@ def _fixed_interface_modes(k_ii, m_ii, lu, n_modes, f_max_hz):
     return freq[keep], phi * np.where(largest < 0, -1.0, 1.0)
 
 
-def craig_bampton(K, M, boundary, n_modes=20, f_max_hz=600.0, zeta=0.01):
+def craig_bampton(K, M, boundary, n_modes=20, f_max_hz=600.0, zeta=0.01, solver="auto"):
     """Craig-Bampton reduction of (K, M) keeping ``boundary`` DOFs physical.
 
     Parameters
@@ -104,18 +116,20 @@ def craig_bampton(K, M, boundary, n_modes=20, f_max_hz=600.0, zeta=0.01):
         mode of the clamped reduced model in ascending frequency (issue 3: "modal damping ratio
         per mode"); carried to the reduced models built from this one
         (:func:`motoflex_ros.structures.clamped.reduce_clamped`, which checks the length).
+    solver : {'auto', 'pardiso', 'superlu'}
+        Sparse factorisation of K_ii (:func:`~motoflex_ros.structures.sparse_solver.factorize_spd`;
+        'auto': PARDISO when pypardiso imports). The results agree to round-off.
 
     """
     K, M = sp.csc_matrix(K), sp.csc_matrix(M)
     n = K.shape[0]
     boundary = np.asarray(boundary, int)
-    interior = np.setdiff1d(np.arange(n), boundary)
-    k_ii = K[interior][:, interior].tocsc()
-    m_ii = M[interior][:, interior].tocsc()
-    k_ib = K[interior][:, boundary].toarray()
-    lu = symmetric_lu(k_ii)
-    psi = -lu.solve(k_ib) if len(interior) else np.zeros((0, len(boundary)))
-    freq, phi = _fixed_interface_modes(k_ii, m_ii, lu, n_modes, f_max_hz)
+    interior, k_ii, m_ii, k_ib = interior_blocks(K, M, boundary)
+    with factorize_spd(k_ii, solver) as factor:
+        psi = -factor.solve(k_ib) if len(interior) else np.zeros((0, len(boundary)))
+        del k_ib
+        freq, phi = fixed_interface_modes(k_ii, m_ii, factor, n_modes, f_max_hz)
+    del k_ii, m_ii
     nb, nm = len(boundary), len(freq)
     transform = np.zeros((n, nb + nm))
     transform[boundary, np.arange(nb)] = 1.0

@@ -4,7 +4,9 @@ The Craig-Bampton model keeps at most 20 fixed-interface modes and none above 60
 a component whose fixed-interface modes all lie above the cap (e.g. the validation tube) keeps
 none, and its clamped reduced model then carries only the static constraint modes, whose
 frequencies can be far off. The full clamped model's lowest modes (sparse shift-invert eigsh,
-sigma = 0) are the reference the summary puts beside the reduced model's.
+sigma = 0, on the reduction's sparse factorisation,
+:func:`motoflex_ros.structures.sparse_solver.factorize_spd`) are the reference the summary puts
+beside the reduced model's.
 """
 from dataclasses import dataclass
 
@@ -12,6 +14,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from motoflex_ros.structures.clamped import end_share, label_mode
+from motoflex_ros.structures.sparse_solver import factorize_spd
 
 __all__ = ["FullModes", "full_clamped_matrices", "full_clamped_modes"]
 
@@ -55,7 +58,9 @@ def full_clamped_modes(component, n_modes=30):
     """
     k, m, asm = full_clamped_matrices(component)
     count = min(n_modes, k.shape[0] - 2)
-    w2, phi = spla.eigsh(k.tocsc(), k=count, M=m.tocsc(), sigma=0.0, which="LM")
+    with factorize_spd(k) as factor:
+        w2, phi = spla.eigsh(factor.operator(), k=count, M=m.tocsc(), sigma=0.0,
+                             OPinv=factor.operator(), which="LM")
     order = np.argsort(w2)
     w2, phi = w2[order], phi[:, order]
     end = asm.node_dofs(component.loaded_end)
