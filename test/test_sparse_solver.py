@@ -12,6 +12,7 @@ import pytest
 import scipy.sparse as sp
 
 from motoflex_ros.errors import ModelError
+from motoflex_ros.structures import sparse_solver
 from motoflex_ros.structures.craig_bampton import craig_bampton, interior_blocks
 from motoflex_ros.structures.mesh_examples import box_mesh
 from motoflex_ros.structures.solid import SolidBlock, assemble_solid
@@ -91,9 +92,22 @@ def test_pardiso_singular_stiffness_is_one_clear_error(box):
         factorize_spd(sp.diags([1.0, 0.0, 2.0]).tocsr(), "pardiso")
 
 
+def test_auto_takes_superlu_below_the_size_and_pardiso_from_it(box, monkeypatch):
+    """'auto' factorises a matrix below PARDISO_MIN_SIZE rows (the shipped components, a few
+    hundred DOFs; this 5k-DOF box) with SuperLU, whose result does not depend on memory
+    alignment, and one of at least that size with PARDISO when it is installed."""
+    _, k_ii, _, _ = interior_blocks(*box)
+    assert k_ii.shape[0] < sparse_solver.PARDISO_MIN_SIZE
+    assert factorize_spd(k_ii).solver == "superlu"
+    monkeypatch.setattr(sparse_solver, "PARDISO_MIN_SIZE", k_ii.shape[0])
+    assert factorize_spd(k_ii).solver == ("pardiso" if pardiso_available() else "superlu")
+
+
 def test_fallback_without_pypardiso(box, monkeypatch):
     """With pypardiso unimportable, 'auto' takes SuperLU and gives the same reduction (to
     1e-9) as with it; asking for 'pardiso' explicitly is one clear error."""
+    _, k_ii, _, _ = interior_blocks(*box)
+    monkeypatch.setattr(sparse_solver, "PARDISO_MIN_SIZE", k_ii.shape[0])   # 'auto': PARDISO
     with_it = _reduce(box, "auto")
     monkeypatch.setitem(sys.modules, "pypardiso", None)   # import pypardiso -> ImportError
     assert not pardiso_available()
