@@ -6,6 +6,7 @@ from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
 
 from motoflex_ros.launcher.graph import NodeDied
+from motoflex_ros.launcher.interrupts import raise_if_interrupted
 from motoflex_ros.nodes.conversions import time_ns
 from motoflex_ros.nodes.endpoints import GraphWatch, InputGuard
 from motoflex_ros.nodes.runtime import READY_TOPIC, FastSpinner, latched_qos
@@ -38,6 +39,7 @@ class Monitor(Node):
         """Handle what arrives within ``timeout_s`` [s] (the count); look for foreign
         publishers in the graph now and then."""
         count = self.spinner.spin_once(timeout_s)
+        raise_if_interrupted()   # SIGINT/SIGTERM noted meanwhile (launcher/interrupts.py)
         self.graph_watch.check()
         return count
 

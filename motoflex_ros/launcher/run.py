@@ -8,7 +8,6 @@ ROS_DOMAIN_ID (``ROS_DOMAIN_ID`` if set, else a free one: :mod:`.domain`) and DD
 """
 import os
 import shutil
-import signal
 import sys
 import tempfile
 import time
@@ -20,6 +19,7 @@ from motoflex_ros.errors import MotoflexError
 from motoflex_ros.launcher.dds import configure_dds
 from motoflex_ros.launcher.domain import DomainLock, requested_domain
 from motoflex_ros.launcher.graph import NodeDied, NodeGraph, describe_exit
+from motoflex_ros.launcher.interrupts import deferred_interrupts, raise_if_interrupted
 
 __all__ = ["RunFailed", "RunInterrupted", "RunResult", "run_graph", "work_folder",
            "ros_log_home"]
@@ -83,10 +83,6 @@ def _keep_logs(exc, logs, kept):
                      for a in exc.args)
 
 
-def _raise_on_sigterm(signum, frame):
-    raise KeyboardInterrupt("SIGTERM")
-
-
 READY_TIMEOUT_S = 180.0
 """How long the nodes may take to come up [s]: on a quiet machine a campaign's eight nodes are
 up in 5-10 s; two campaigns at once beside other work on two cores took over 60 s (the
@@ -101,32 +97,31 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
     (topics relative to ``namespace``, where every node runs: None or '/' for the root).
     """
     work_dir = Path(work_dir or tempfile.mkdtemp(prefix="motoflex_run_"))
-    previous = signal.signal(signal.SIGTERM, _raise_on_sigterm)
     start = time.monotonic()
-    try:
-        dds = configure_dds(os.environ)   # this process's monitor node; the nodes inherit it
-        with DomainLock(domain_id=requested_domain(os.environ), namespace=namespace) as lock:
-            where = f", namespace {namespace}" if (namespace or "/").strip("/") else ""
-            print(f"motoflex: ROS_DOMAIN_ID {lock.domain_id} ({lock.origin}){where}; {dds}",
-                  file=sys.stderr, flush=True)
-            graph = NodeGraph(specs, lock.domain_id, work_dir, namespace)
-            try:
-                graph.start()   # inside the try: a failure half-way stops what started
-                collected = _monitor(graph, pacer, duration_s, collect, progress,
-                                     ready_timeout, (finishers, finish_timeout, drain_timeout))
-            except BaseException:
-                graph.stop()
-                raise
-            codes = graph.stop()
-            _check_exit_codes(graph, codes)
-    except KeyboardInterrupt as exc:
-        what = str(exc) or "SIGINT"
-        raise RunInterrupted(f"interrupted by {what}; every node stopped "
-                             f"(logs: {work_dir / 'log'})") from None
-    except NodeDied as exc:
-        raise RunFailed(str(exc)) from None
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+    with deferred_interrupts():   # raised by the monitor's loop, not mid-deserialisation
+        try:
+            dds = configure_dds(os.environ)   # this process's monitor node; the nodes inherit it
+            with DomainLock(domain_id=requested_domain(os.environ), namespace=namespace) as lock:
+                where = f", namespace {namespace}" if (namespace or "/").strip("/") else ""
+                print(f"motoflex: ROS_DOMAIN_ID {lock.domain_id} ({lock.origin}){where}; {dds}",
+                      file=sys.stderr, flush=True)
+                graph = NodeGraph(specs, lock.domain_id, work_dir, namespace)
+                try:
+                    graph.start()   # inside the try: a failure half-way stops what started
+                    collected = _monitor(graph, pacer, duration_s, collect, progress,
+                                         ready_timeout, (finishers, finish_timeout, drain_timeout))
+                except BaseException:
+                    graph.stop()
+                    raise
+                codes = graph.stop()
+                raise_if_interrupted()
+                _check_exit_codes(graph, codes)
+        except KeyboardInterrupt as exc:
+            what = str(exc) or "SIGINT"
+            raise RunInterrupted(f"interrupted by {what}; every node stopped "
+                                 f"(logs: {work_dir / 'log'})") from None
+        except NodeDied as exc:
+            raise RunFailed(str(exc)) from None
     return RunResult(lock.domain_id, time.monotonic() - start, codes, collected)
 
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.files import atomic_write_text
-from motoflex_ros.launcher.run import _raise_on_sigterm
+from motoflex_ros.launcher.interrupts import raise_on_sigterm
 from motoflex_ros.record.mcap_bag import METADATA_FILE, check_new_bag_dir
 
 __all__ = ["STATUS_FILE", "IncompleteRun", "write_status", "read_status", "incomplete_reason",
@@ -93,7 +93,7 @@ def run_status(folder, results=()):
     the ``results`` (file names in the folder, final and staged) removed, and the error
     re-raised. Nothing is written if the run left no folder."""
     folder = check_new_bag_dir(folder)
-    previous = signal.signal(signal.SIGTERM, _raise_on_sigterm)
+    previous = signal.signal(signal.SIGTERM, raise_on_sigterm)
     try:
         yield folder
     except BaseException as exc:
