@@ -10,6 +10,7 @@ import json
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -49,8 +50,23 @@ def _serve_and_stop(folder, env):
         line = view.stdout.readline()
         assert "http://127.0.0.1:" in line, view.stderr.read()[-2000:]
     finally:
-        view.terminate()
+        view.terminate()   # at once, while view may still be printing its second line
         view.wait(timeout=60)
+    # its viewer went with it (a SIGTERM between the address and the try/finally once left the
+    # rerun binary running, orphaned, at half a core, in every suite run)
+    assert not processes_naming(folder)
+
+
+def processes_naming(folder):
+    """Pids of the processes whose command line names something in ``folder``."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        try:
+            if entry.name.isdigit() and str(folder).encode() in (entry / "cmdline").read_bytes():
+                found.append(int(entry.name))
+        except OSError:
+            continue   # ended meanwhile
+    return found
 
 
 USER_CONFIG = {"analytics_enabled": True, "analytics_id": "0123456789abcdef", "metadata": {},

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from chromium_devtools import WINDOW, DevTools, ensure_chromium
 from PIL import Image
+from test_view_analytics import processes_naming
 
 from motoflex_ros.record.rerun_log import STRUCTURE_COLOR
 
@@ -64,6 +65,7 @@ def served_run(tmp_path):
     finally:
         view.terminate()
         view.wait(timeout=30)
+    assert not processes_naming(bag)   # the viewer went with it
 
 
 @pytest.mark.slow

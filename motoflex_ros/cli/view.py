@@ -129,9 +129,9 @@ def _serve(rerun, rrd, args, env):
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))   # stop the child on SIGTERM too
     child = _start_web_viewer([rerun, "--web-viewer", "--bind", "127.0.0.1", "--web-viewer-port",
                                str(web_port), "--port", str(grpc_port), str(rrd)], web_port, env)
-    print(f"web viewer of {rrd.name}: {web_address(web_port, grpc_port)}", flush=True)
-    print("serving on 127.0.0.1 only; Ctrl-C to stop", file=sys.stderr, flush=True)
-    try:
+    try:   # from here on: a SIGTERM right after the address is printed must stop the viewer
+        print(f"web viewer of {rrd.name}: {web_address(web_port, grpc_port)}", flush=True)
+        print("serving on 127.0.0.1 only; Ctrl-C to stop", file=sys.stderr, flush=True)
         return child.wait()
     finally:
         _stop(child)
