@@ -12,6 +12,7 @@ import time
 from pathlib import Path
 
 import pytest
+from processes import processes_naming
 
 pytest.importorskip("rclpy")
 from motoflex_ros.cli.output import to_jsonable  # noqa: E402
@@ -67,17 +68,8 @@ def _campaign(tmp_path, *extra):
 
 
 def _our_processes(marker):
-    """Pids whose command line mentions ``marker`` (this test's tmp dir)."""
-    pids = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit() and int(entry.name) != os.getpid():
-            try:
-                cmdline = (entry / "cmdline").read_bytes().replace(b"\0", b" ").decode()
-            except OSError:
-                continue
-            if marker in cmdline and "motoflex_ros.nodes" in cmdline:
-                pids.append(int(entry.name))
-    return pids
+    """Pids of the node processes whose command line mentions ``marker`` (this test's tmp dir)."""
+    return processes_naming(marker, also="motoflex_ros.nodes")
 
 
 def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):

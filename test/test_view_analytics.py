@@ -10,9 +10,9 @@ import json
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
+from processes import processes_naming
 
 from motoflex_ros.record.rerun_private import private_rerun_env
 from motoflex_ros.record.rerun_readback import rerun_executable
@@ -56,17 +56,6 @@ def _serve_and_stop(folder, env):
     # rerun binary running, orphaned, at half a core, in every suite run)
     assert not processes_naming(folder)
 
-
-def processes_naming(folder):
-    """Pids of the processes whose command line names something in ``folder``."""
-    found = []
-    for entry in Path("/proc").iterdir():
-        try:
-            if entry.name.isdigit() and str(folder).encode() in (entry / "cmdline").read_bytes():
-                found.append(int(entry.name))
-        except OSError:
-            continue   # ended meanwhile
-    return found
 
 
 USER_CONFIG = {"analytics_enabled": True, "analytics_id": "0123456789abcdef", "metadata": {},

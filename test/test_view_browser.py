@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from chromium_devtools import WINDOW, DevTools, ensure_chromium
 from PIL import Image
-from test_view_analytics import processes_naming
+from processes import processes_naming
 
 from motoflex_ros.record.rerun_log import STRUCTURE_COLOR
 
