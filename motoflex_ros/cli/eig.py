@@ -2,20 +2,24 @@
 
     motoflex eig --vehicle FILE (--speeds-kmh V... | --speeds-ms V... | --range-kmh LO HI
                  [--step-kmh S]) [--json] [--plot DIR] [--flex VARIANT]
-                 [--component NAME ...] [--identified FILE]
+                 [--component NAME ...] [--identified FILE] [--use FILE ...]
 
 Speeds: --speeds-kmh in km/h, --speeds-ms in m/s, --range-kmh LO HI in steps of --step-kmh
 (default 5 km/h; inclusive of HI when it falls on the step). The older --speeds (m/s), --step
 and comma-separated --components still work, with a deprecation warning.
 --json prints {"vehicle", "variant" (of --flex), "components" (made flexible; [] when rigid),
-"speeds_mps", "eigenvalues" ([[re, im], ...] per speed, 1/s), "modes": {"weave", "wobble",
+"component_files" ({component: file} of those --use replaced), "speeds_mps", "eigenvalues"
+([[re, im], ...] per speed, 1/s), "modes": {"weave", "wobble",
 "capsize": [[re, im] | null per speed]}}. --plot DIR writes the root locus and
 weave/wobble frequency and real part against speed (PNG).
 
 --flex puts the components' flexibility into the rigid vehicle: ``flexible`` (Craig-Bampton
 superelements of the clamped components) or a lumped variant (state_of_the_art, static,
 torsion, bending, decomposed; Passigato et al. 2023, Sect. 5.2) identified by the bench (run
-offline unless --identified gives a result file of ``motoflex identify --out``).
+offline unless --identified gives a result file of ``motoflex identify --out``). --use FILE
+puts the engineer's own component (a beam, mesh or superelement YAML) in the role its name
+gives it (frame, front_assembly, swingarm); with --identified, the file must hold that
+component's identification.
 """
 import math
 import sys
@@ -23,7 +27,12 @@ from argparse import SUPPRESS
 
 import numpy as np
 
-from motoflex_ros.cli.inputs import identification_results, motorcycle_components
+from motoflex_ros.cli.inputs import (
+    add_use_option,
+    component_roles,
+    identification_results,
+    motorcycle_components,
+)
 from motoflex_ros.cli.options import add_component_option, deprecated
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.config import resolve_config
@@ -69,6 +78,7 @@ def register(subparsers):
     add_component_option(parser, "a component made flexible; repeatable (default: all three)")
     parser.add_argument("--identified", metavar="FILE",
                         help="identification results (YAML/JSON of motoflex identify --out)")
+    add_use_option(parser)
     parser.set_defaults(func=run)
 
 
@@ -123,10 +133,14 @@ def sweep_to_json(sweep):
 
 
 def model_to_json(args):
-    """What the eigenvalues are of: {"vehicle", "variant", "components"} of the arguments."""
+    """What the eigenvalues are of: {"vehicle", "variant", "components", "component_files"}
+    of the arguments (``component_files``: {role: file} of ``--use``, the components that are
+    not the shipped ones)."""
     rigid = args.flex == "rigid"
-    return {"vehicle": args.vehicle, "variant": args.flex,
-            "components": [] if rigid else parse_components(args.component)}
+    names = [] if rigid else parse_components(args.component)
+    roles = component_roles(args.use)
+    return {"vehicle": args.vehicle, "variant": args.flex, "components": names,
+            "component_files": {name: roles[name] for name in names if name in roles}}
 
 
 def _cell(z, part):
@@ -151,10 +165,10 @@ def variant_of(model, args):
     if args.flex == "rigid":
         return model
     names = parse_components(args.component)
-    components = motorcycle_components(names)
+    components = motorcycle_components(names, component_roles(args.use))
     identified = {}
     if args.flex != "flexible":
-        identified = identification_results(args.identified, names)
+        identified = identification_results(args.identified, list(components.values()))
     return build_variant(model, args.flex, names, identified, components)
 
 

@@ -10,14 +10,17 @@ from motoflex_ros.errors import ConfigError
 from motoflex_ros.limits import check_limit
 
 __all__ = ["COMPONENTS", "identification_results", "motorcycle_components",
-           "add_study_inputs", "study_speeds", "noise_argument", "seed_argument"]
+           "add_study_inputs", "add_use_option", "component_roles", "study_speeds",
+           "noise_argument", "seed_argument"]
 
 COMPONENTS = MOTORCYCLE_COMPONENTS
+_USE = "command line"
 
 
 def identification_results(path=None, components=COMPONENTS, seed=0):
     """{component: results} from a YAML/JSON file of ``motoflex identify --out``, or, without a
-    file, from running the offline bench campaign (seeded) for ``components``."""
+    file, from running the offline bench campaign (seeded) for ``components`` (names, files or
+    structures Components)."""
     if path:
         from motoflex_ros.identify.results import load_results_file
         return load_results_file(Path(path))
@@ -30,11 +33,48 @@ def identification_results(path=None, components=COMPONENTS, seed=0):
     return {name: run.identification.to_dict() for name, (_, run) in runs.items()}
 
 
-def motorcycle_components(names=COMPONENTS):
-    """{name: structures Component} of the shipped motorcycle components."""
+def motorcycle_components(names=COMPONENTS, roles=None):
+    """{name: structures Component} of the motorcycle components: the shipped ones, or the file
+    ``roles[name]`` where one is given (``--use``, :func:`component_roles`; said on stderr)."""
     from motoflex_ros.structures.components import load_component
 
-    return {name: load_component(name) for name in names}
+    for name, path in (roles or {}).items():
+        if name in names:
+            print(f"the {name} is {path} (--use), not the shipped one", file=sys.stderr)
+    return {name: load_component((roles or {}).get(name, name)) for name in names}
+
+
+def add_use_option(parser):
+    """``--use FILE`` (repeatable): the engineer's own component in the motorcycle."""
+    parser.add_argument("--use", action="append", metavar="FILE",
+                        help="a component file (beam, mesh or superelement) that takes the role "
+                             "its name gives it in the motorcycle (frame, front_assembly or "
+                             "swingarm) instead of the shipped one; repeatable")
+
+
+def component_roles(files):
+    """{role: path} of ``--use FILE ...``: each file's component name (``component`` of a beam
+    file, ``name`` or the file's stem of a mesh or superelement file) must be one of the
+    motorcycle's components, each at most once. ConfigError naming the file otherwise."""
+    from motoflex_ros.structures.components import component_name
+
+    roles = {}
+    for text in files or ():
+        path = Path(text)
+        if not path.is_file():
+            raise ConfigError(_USE, "--use", f"'{text}' is not a file (give a component YAML; "
+                                             "the shipped components are used by default)")
+        role = component_name(str(path))
+        if role not in COMPONENTS:
+            raise ConfigError(str(path), "name", f"component '{role}' takes no role in the "
+                                                 f"motorcycle (allowed: {', '.join(COMPONENTS)}; "
+                                                 "set `name:` of a mesh or superelement file)")
+        if role in roles:
+            raise ConfigError(_USE, "--use", f"two files for the {role}: '{roles[role]}' and "
+                                             f"'{text}'")
+        roles[role] = str(path)
+    return roles
+
 
 
 def add_study_inputs(parser):
@@ -42,6 +82,7 @@ def add_study_inputs(parser):
     parser.add_argument("--identified", metavar="FILE",
                         help="identification results (YAML/JSON of motoflex identify --out)")
     parser.add_argument("--vehicle", default="touring", help="vehicle YAML or shipped name")
+    add_use_option(parser)
 
 
 def study_speeds(step_kmh, max_step_kmh):

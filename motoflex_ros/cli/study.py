@@ -25,7 +25,13 @@ from pathlib import Path
 
 import numpy as np
 
-from motoflex_ros.cli.inputs import add_study_inputs, identification_results, study_speeds
+from motoflex_ros.cli.inputs import (
+    add_study_inputs,
+    component_roles,
+    identification_results,
+    motorcycle_components,
+    study_speeds,
+)
 from motoflex_ros.cli.options import deprecated
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.cli.study_accuracy import register_accuracy
@@ -159,7 +165,6 @@ def _flexible_output(args, result, lumped, study_run, speeds):
 
 def run_sensitivity_verb(args):
     """``motoflex study sensitivity``; returns the exit code."""
-    from motoflex_ros.structures.components import load_component
     from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL, full_factorial
     from motoflex_ros.study.motorcycle import decomposed_study
     from motoflex_ros.study.sensitivity import run_sensitivity
@@ -170,10 +175,10 @@ def run_sensitivity_verb(args):
                                                             else 1.0)
     speeds = study_speeds(step, 10.0)
     vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
-    identified = identification_results(args.identified)
+    components = motorcycle_components(_COMPONENTS, component_roles(args.use))
+    identified = identification_results(args.identified, list(components.values()))
     if args.nominal == "table2":
         identified = _with_table2(identified)
-    components = {name: load_component(name) for name in _COMPONENTS}
     setup = decomposed_study(vehicle, components, identified, speeds)
     try:
         result, study_run = run_sensitivity(setup.study, setup.nominal, speeds, args.levels,

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from motoflex_ros.cli.inputs import (
     add_study_inputs,
+    component_roles,
     identification_results,
     motorcycle_components,
     study_speeds,
@@ -181,8 +182,8 @@ def run_accuracy(args):
     load_speed = _load_speed(args.vehicle_load_kmh)
     speeds = study_speeds(args.step_kmh, 85.0)
     vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
-    identified = identification_results(args.identified)
-    components = motorcycle_components()
+    components = motorcycle_components(roles=component_roles(args.use))
+    identified = identification_results(args.identified, list(components.values()))
     with progress_bar(len(cases) * (1 + len(ACCURACY_VARIANTS)), "models", "model") as bar:
         result = accuracy_study(vehicle, components, identified, speeds, cases=cases,
                                 progress=lambda: bar.update(1), vehicle_load_speed=load_speed,
