@@ -92,7 +92,9 @@ def _loop_description(tree):
 def _loop_dependent(model, tree, frames):
     """Coordinates solved from the loop-closure and lock constraints (coordinate partitioning).
 
-    Locked coordinates first; then, greedily, joint coordinates in order of declaration whose
+    Locked coordinates first, then those a force element asks to be solved from its loop
+    (``loop_coordinates()``: a massless bushing's, which would otherwise be independent
+    coordinates without mass); then, greedily, joint coordinates in order of declaration whose
     constraint column adds rank (a coordinate named by a role, e.g. the steering angle, only
     when nothing else will do). Declaration order keeps the mechanism's own joints dependent
     and the coordinates a variant appends (lumped hinges, superelement end DOFs) independent.
@@ -117,8 +119,11 @@ def _loop_dependent(model, tree, frames):
     joints = sorted(joints, key=lambda k: (declared.get(tree.coordinates[k].name, len(declared)),
                                            k))
     locked = [k for k in joints if tree.coordinates[k].locked]
-    others = [k for k in joints if k not in locked]
-    order = locked + [k for k in others if tree.coordinates[k].name not in roles]
+    preferred = {name for element in model.elements
+                 for name in getattr(element, "loop_coordinates", tuple)()}
+    first = [k for k in joints if k not in locked and tree.coordinates[k].name in preferred]
+    others = [k for k in joints if k not in locked and k not in first]
+    order = locked + first + [k for k in others if tree.coordinates[k].name not in roles]
     order += [k for k in others if tree.coordinates[k].name in roles]
     chosen, basis = [], np.zeros((G.shape[0], 0))
     for k in order:

@@ -129,8 +129,9 @@ def _add_joint_coordinates(joint, coords, frames):
 
 def _attach_joints(model, coords, frames):
     """Attach the joints breadth first from the root; a joint whose child is already attached
-    closes a loop and becomes a CutJoint. Returns the cut joints."""
-    pending = list(model.joints)
+    closes a loop and becomes a CutJoint, and so does every joint marked ``cut`` (applied after
+    the tree). Returns the cut joints."""
+    pending = [j for j in model.joints if not j.cut]
     cuts = []
     while pending:
         ready = [j for j in pending if j.parent in frames]
@@ -147,6 +148,16 @@ def _attach_joints(model, coords, frames):
                 frames[joint.child] = frames[joint.parent]
             else:
                 _add_joint_coordinates(joint, coords, frames)
+    for joint in model.joints:
+        if not joint.cut:
+            continue
+        missing = [b for b in (joint.parent, joint.child) if b not in frames]
+        if missing:
+            raise ModelError(f"{model.source}: the cut joint '{joint.name}' joins body "
+                             f"'{missing[0]}', which no tree joint attaches to the root "
+                             f"'{model.root}' (a cut joint closes a loop between two attached "
+                             "bodies)")
+        cuts.append(joint)
     return [CutJoint(j, frames[j.parent], frames[j.child]) for j in cuts]
 def compile_tree(model):
     """Compile a VehicleModel into coordinates and masses (base, joints, wheel spins)."""

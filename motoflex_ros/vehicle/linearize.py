@@ -16,7 +16,8 @@ from motoflex_ros.errors import ModelError
 from motoflex_ros.vehicle.dynamics import build_system, constraint_matrix, positions, residual
 
 __all__ = ["LinearVehicle", "SecondOrderMatrices", "linearize_at", "linearize",
-           "is_singular", "SINGULAR_RTOL"]
+           "is_singular", "SINGULAR_RTOL", "check_determined", "UNDETERMINED_RTOL",
+           "mechanism_matrices"]
 
 _STEP = 1e-30
 SINGULAR_RTOL = 1e-10
@@ -77,7 +78,42 @@ def linearize_at(system, v):
                                 q=positions(system, step, newton_steps=1)).imag / _STEP
         else:
             A[:, k] = -residual(system, zero, step, v, q=q_ref, G=G_ref).imag / _STEP
+    check_determined(system, E, A)
     return E, A
+
+
+UNDETERMINED_RTOL = 1e-12
+"""An independent coordinate whose columns in the equations of motion (its position in A,
+its speed in E and A) are below this fraction of the largest entry of E and A there is taken
+as carrying neither mass, stiffness nor damping."""
+
+
+def check_determined(system, E, A):
+    """ModelError when an independent coordinate appears in no equation of motion: neither
+    mass (its speed's column of E), stiffness (its column of A) nor damping (its speed's column
+    of A) in the dynamic rows, e.g. a free direction of a massless bushing that no loop
+    determines. The pencil would be singular for every eigenvalue; the message names the
+    coordinate and the force element (bushing, superelement) it belongs to."""
+    nq, nu = len(system.indep_pos), len(system.indep_speed)
+    rows = slice(nq, nq + nu)
+    e_dyn, a_dyn = np.abs(E[rows]), np.abs(A[rows])
+    scale_e = max(float(np.max(e_dyn, initial=0.0)), 1e-300)
+    scale_a = max(float(np.max(a_dyn, initial=0.0)), 1e-300)
+    for j, k in enumerate(system.indep_pos):
+        if k not in system.indep_speed:
+            continue
+        s = nq + list(system.indep_speed).index(k)
+        mass = np.max(e_dyn[:, s]) / scale_e
+        rest = max(np.max(a_dyn[:, j]), np.max(a_dyn[:, s])) / scale_a
+        if mass <= UNDETERMINED_RTOL and rest <= UNDETERMINED_RTOL:
+            name = system.tree.coordinates[k].name
+            owner = next((e.element.name for e in system.elements
+                          if name in getattr(e, "names", ())), None)
+            what = f"of force element '{owner}' " if owner else ""
+            raise ModelError(f"{system.model.source}: coordinate '{name}' {what}has neither "
+                             "mass nor stiffness nor damping and no loop determines it (a "
+                             "free direction of a massless element): give it stiffness, close "
+                             "it by a joint, or hang a body from it")
 
 
 def _fit(values, speeds):
@@ -158,3 +194,17 @@ def linearize(model):
             raise ModelError(f"{system.model.source}: {name}(v) is not quadratic in speed "
                              f"(relative error {error:.2e} at {_CHECK_SPEED} m/s)")
     return result
+
+
+def mechanism_matrices(system, v=0.0):
+    """(M, C, K) of M q'' + C q' + K q = f over the independent coordinates of a system with
+    one speed per coordinate and no tyre states (a mechanism on a stand, base 'fixed'), from
+    :func:`linearize_at` at speed v [m/s]: M [kg..], C [N s/m..], K [N/m..] in the units of
+    the coordinates. ModelError otherwise."""
+    nq = len(system.indep_pos)
+    if system.n_tyre_states or list(system.indep_speed) != list(system.indep_pos):
+        raise ModelError(f"{system.model.source}: M, C, K need one speed per coordinate and "
+                         "no tyre states (a fixed-base mechanism)")
+    E, A = linearize_at(system, v)
+    rows = slice(nq, 2 * nq)
+    return E[rows, nq:], -A[rows, nq:], -A[rows, :nq]

@@ -48,6 +48,9 @@ class Joint:
     that closes a loop adds constraints instead (:mod:`motoflex_ros.vehicle.loops`).
     stiffness [N m/rad] (or [N/m]) and damping [N m s/rad] act on the (first) joint coordinate.
     locked: the coordinate is frozen at 0 (one constraint), e.g. suspension travel.
+    cut: the joint always closes a loop (a cut joint, constraint rows only): it is applied
+    after every tree joint, so its two bodies may be reached in any order (a superelement's
+    end body at the end of its six-joint chain, a bushing's end body closed onto another body).
     """
 
     name: str
@@ -60,6 +63,7 @@ class Joint:
     damping: float = 0.0
     axis2: np.ndarray = None
     locked: bool = False
+    cut: bool = False
 
     @property
     def axes(self):

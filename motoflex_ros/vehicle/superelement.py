@@ -47,17 +47,28 @@ from motoflex_ros.structures.clamped import reduce_clamped
 from motoflex_ros.vehicle.model import Body, Joint
 
 __all__ = ["Superelement", "BoundSuperelement", "superelement_of", "rigid_field",
-           "coordinate_names", "end_body", "chain_parts", "generalized_residual", "follower_masks"]
+           "coordinate_names", "end_body", "chain_parts", "generalized_residual", "follower_masks",
+           "bushing"]
 
 
 @dataclass(frozen=True)
 class Superelement:
     """A component's clamped Craig-Bampton model placed in the vehicle.
 
-    name; parent: body its clamps are welded to and its end chain hangs from; end_point q0 [m]
-    (vehicle frame); M, K, C (n_x square, [kg], [N/m], [N s/m] and mixed units by coordinate);
-    couplings: ((body, M_xR_P), ...) the (n_x, 6) coupling with the (omega, v_0) field of each
-    vehicle body P its nodes follow; n_modes fixed-interface modes after the six end DOFs.
+    name; parent: body its clamps are welded to and its end chains hang from; end_point q0 [m]
+    (vehicle frame) of the one loaded end; M, K, C (n_x square, [kg], [N/m], [N s/m] and mixed
+    units by coordinate); couplings: ((body, M_xR_P), ...) the (n_x, 6) coupling with the
+    (omega, v_0) field of each vehicle body P its nodes follow; n_modes fixed-interface modes
+    after the end DOFs.
+
+    ``ends`` None: one loaded end at ``end_point`` (coordinates and end body named as
+    :func:`coordinate_names` and :func:`end_body` say). ``ends`` a tuple of (label, point [m])
+    pairs: several interface nodes ("ends", e.g. a flexible body of
+    :mod:`motoflex_ros.vehicle.flexible_bodies` with its joint points), x = (u_1, theta_1,
+    u_2, theta_2, ..., eta), each end with its own six-joint chain through its point and its
+    own massless end body ``end_body(se, label)``; ``end_point`` is then the reference node
+    where the element is clamped to ``parent`` (the chains do not use it). The residual is the
+    same for any number of ends: the end DOFs are rows of x.
     """
 
     name: str
@@ -68,6 +79,7 @@ class Superelement:
     C: np.ndarray
     couplings: tuple
     n_modes: int
+    ends: tuple = None
 
     @property
     def M_xR(self):
@@ -76,17 +88,34 @@ class Superelement:
 
     @property
     def n(self):
-        """Number of elastic coordinates (6 end DOFs + modes)."""
+        """Number of elastic coordinates (6 per end + modes)."""
         return self.K.shape[0]
+
+    @property
+    def end_labels(self):
+        """Labels of the ends, in coordinate order ((None,) for the one loaded end)."""
+        return (None,) if self.ends is None else tuple(label for label, _ in self.ends)
+
+    def end_points(self):
+        """{label: point [m]} of the ends (label None for the one loaded end)."""
+        if self.ends is None:
+            return {None: np.asarray(self.end_point, float)}
+        return {label: np.asarray(point, float) for label, point in self.ends}
+
+    def loop_coordinates(self):
+        """Coordinates the engine solves first from a loop closing on this element: all of a
+        massless element's (a bushing, :func:`bushing`), none of one with mass."""
+        return () if np.any(self.M) else tuple(coordinate_names(self))
 
     def bind(self, tree):
         """The element placed in a compiled tree: its coordinates and the frames of the bodies
         its nodes follow looked up once (force-element hook of the engine, see
         ``VehicleModel.elements``)."""
-        indices = np.array([tree.index(n) for n in coordinate_names(self)])
+        names = coordinate_names(self)
+        indices = np.array([tree.index(n) for n in names], int)
         frames = tuple(tree.body_frames[body] for body, _ in self.couplings)
         return BoundSuperelement(self, indices, frames,
-                                 tuple(np.array(m) for _, m in self.couplings))
+                                 tuple(np.array(m) for _, m in self.couplings), tuple(names))
 
     def scaled(self, factor):
         """The same superelement with stiffness multiplied by ``factor`` (rigid-limit checks)."""
@@ -96,13 +125,14 @@ class Superelement:
 @dataclass(frozen=True)
 class BoundSuperelement:
     """A Superelement in a compiled tree: ``indices`` of its engine coordinates
-    (:func:`coordinate_names` order), the frame index of each body its nodes follow and the
-    coupling M_xR_P with each (same order)."""
+    (:func:`coordinate_names` order, ``names`` their names), the frame index of each body its
+    nodes follow and the coupling M_xR_P with each (same order)."""
 
     element: Superelement
     indices: np.ndarray
     frames: tuple
     couplings: tuple
+    names: tuple = ()
 
     def generalized_residual(self, system, frames, q, u, udot):
         """Force-element hook of the engine (see :func:`generalized_residual`)."""
@@ -169,40 +199,81 @@ _UNIT = np.eye(3)
 
 
 def coordinate_names(se):
-    """Engine coordinate names of a superelement: six end DOFs, then the modal amplitudes."""
-    return [f"{se.name}_{d}" for d in _END_DOFS] + [f"{se.name}_eta{i}"
-                                                      for i in range(se.n - 6)]
+    """Engine coordinate names of a superelement: six DOFs per end, then the modal amplitudes
+    (one loaded end: name_ux .. name_rz; several: name_label_ux .. name_label_rz per end)."""
+    names = []
+    for label in se.end_labels:
+        prefix = se.name if label is None else f"{se.name}_{label}"
+        names += [f"{prefix}_{d}" for d in _END_DOFS]
+    return names + [f"{se.name}_eta{i}" for i in range(se.n - len(names))]
 
 
-def end_body(se):
-    """Name of the (massless) body that moves with the superelement's loaded end."""
-    return f"{se.name}_end"
+def end_body(se, label=None):
+    """Name of the (massless) body that moves with the superelement's loaded end (``label``
+    None), or with its end ``label`` (a superelement with several ends)."""
+    if se.ends is None:
+        if label is not None:
+            raise ModelError(f"superelement '{se.name}' has one loaded end; it has no end "
+                             f"'{label}'")
+        return f"{se.name}_end"
+    if label not in se.end_labels:
+        raise ModelError(f"superelement '{se.name}' has no end '{label}' (ends: "
+                         f"{', '.join(map(str, se.end_labels)) or 'none'})")
+    return f"{se.name}_{label}_end"
 
 
 def chain_parts(se):
     """Massless bodies and joints that realise the elastic coordinates in the engine.
 
-    End DOFs: prismatic along x, y, z then revolute about x, y, z, all through the loaded end
-    q0 (exact to first order: the linearization sees u_end and theta_end). Modal amplitudes:
+    End DOFs: for each end, prismatic along x, y, z then revolute about x, y, z, all through
+    that end's point and hanging from ``parent`` (exact to first order: the linearization sees
+    u_end and theta_end, the end's motion relative to the parent). Modal amplitudes:
     'modal' joints (coordinates that move no frame); their inertia, stiffness and damping come
     from the element's residual.
     """
     names = coordinate_names(se)
+    points = se.end_points()
+    n_end = 6 * len(points)
     bodies, joints = [], []
     parent = se.parent
     for i, name in enumerate(names):
-        child = end_body(se) if i == 5 else f"{name}_body"
-        if i < 3:
-            kind, axis = "prismatic", _UNIT[i]
-        elif i < 6:
-            kind, axis = "revolute", _UNIT[i - 3]
+        if i < n_end:
+            label, dof = se.end_labels[i // 6], i % 6
+            point = points[label]
+            parent = se.parent if dof == 0 else parent
+            child = end_body(se, label) if dof == 5 else f"{name}_body"
+            kind, axis = ("prismatic" if dof < 3 else "revolute"), _UNIT[dof % 3]
         else:
-            kind, axis = "modal", np.zeros(3)
-            parent = se.parent
-        bodies.append(Body(child, 0.0, se.end_point.copy(), np.zeros((3, 3))))
-        joints.append(Joint(name, kind, parent, child, axis, se.end_point.copy()))
+            kind, axis, point = "modal", np.zeros(3), np.asarray(se.end_point, float)
+            parent, child = se.parent, f"{name}_body"
+        bodies.append(Body(child, 0.0, point.copy(), np.zeros((3, 3))))
+        joints.append(Joint(name, kind, parent, child, axis, point.copy()))
         parent = child
     return bodies, joints
+
+
+def bushing(name, parent, point, K6, C6=None):
+    """A compliant joint ("bushing") as a massless superelement with one end and no modes.
+
+    A 6 x 6 spring between two bodies at ``point`` [m] (vehicle frame): K6 [N/m, N m/rad and
+    N/rad, N m/m off the diagonal blocks] on x = (u, theta), the translation [m] and small
+    rotation [rad] of its end body relative to ``parent`` at the point, in the reference axes;
+    C6 [N s/m, N m s/rad] (None: no damping). M = 0 and no coupling: the bushing carries no
+    mass. Place it with :func:`chain_parts` and close its end body (:func:`end_body`) onto the
+    other body with a fixed cut joint, or hang the other body from it as a fixed tree child.
+    A direction of zero stiffness is allowed where a loop determines it (its coordinate is then
+    dependent); an independent coordinate with neither mass nor stiffness is refused by the
+    linearization (:func:`~motoflex_ros.vehicle.linearize.linearize_at`), naming the bushing.
+    """
+    K6 = np.asarray(K6, float)
+    C6 = np.zeros((6, 6)) if C6 is None else np.asarray(C6, float)
+    for what, matrix in (("K6", K6), ("C6", C6)):
+        if matrix.shape != (6, 6) or not np.allclose(matrix, matrix.T, rtol=0.0,
+                                                     atol=1e-12 * np.max(np.abs(matrix))):
+            raise ModelError(f"bushing '{name}': {what} must be a symmetric 6 x 6 matrix "
+                             f"(got shape {matrix.shape})")
+    return Superelement(name, parent, np.asarray(point, float).copy(), np.zeros((6, 6)), K6,
+                        C6, (), 0)
 
 
 def generalized_residual(bound, system, frames, q, u, udot):
