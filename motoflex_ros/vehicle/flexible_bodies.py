@@ -106,8 +106,7 @@ class BodyElements:
 
 def stiffness_damping_factor(component, bodies, zeta=None):
     """The damping factor beta = 2 zeta / omega_1 [s] (module docstring); ``zeta`` None: the
-    component's
-    ``damping_ratio`` (its first value when it is one per mode)."""
+    component's ``damping_ratio`` (its first value when it is one per mode)."""
     zeta = component.damping_ratio if zeta is None else zeta
     zeta = float(zeta[0] if np.ndim(zeta) else zeta)
     omega_1 = 2 * np.pi * assemble_bodies(component, bodies).frequencies_hz()[0]

@@ -89,31 +89,36 @@ as carrying neither mass, stiffness nor damping."""
 
 
 def check_determined(system, E, A):
-    """ModelError when an independent coordinate appears in no equation of motion: neither
-    mass (its speed's column of E), stiffness (its column of A) nor damping (its speed's column
-    of A) in the dynamic rows, e.g. a free direction of a massless bushing that no loop
-    determines. The pencil would be singular for every eigenvalue; the message names the
-    coordinate and the force element (bushing, superelement) it belongs to."""
+    """ModelError when an independent coordinate of a force element (a bushing's or a
+    superelement's, :mod:`motoflex_ros.vehicle.superelement`) appears in no equation of
+    motion: neither mass (its speed's column of E), stiffness (its column of A) nor damping
+    (its speed's column of A) in the dynamic rows, e.g. a free direction of a massless bushing
+    that no loop determines. The pencil would be singular for every eigenvalue; the message
+    names the coordinate and the element. Plain joints are not checked (a study may linearize
+    a deliberately free chain and constrain it afterwards, :mod:`motoflex_ros.study.
+    hinge_pencil`)."""
+    owners = {name: bound.element.name for bound in system.elements
+              for name in getattr(bound, "names", ())}
+    if not owners:
+        return
     nq, nu = len(system.indep_pos), len(system.indep_speed)
     rows = slice(nq, nq + nu)
     e_dyn, a_dyn = np.abs(E[rows]), np.abs(A[rows])
     scale_e = max(float(np.max(e_dyn, initial=0.0)), 1e-300)
     scale_a = max(float(np.max(a_dyn, initial=0.0)), 1e-300)
+    speeds = {k: nq + i for i, k in enumerate(system.indep_speed)}
     for j, k in enumerate(system.indep_pos):
-        if k not in system.indep_speed:
+        name = system.tree.coordinates[k].name
+        if name not in owners or k not in speeds:
             continue
-        s = nq + list(system.indep_speed).index(k)
+        s = speeds[k]
         mass = np.max(e_dyn[:, s]) / scale_e
         rest = max(np.max(a_dyn[:, j]), np.max(a_dyn[:, s])) / scale_a
         if mass <= UNDETERMINED_RTOL and rest <= UNDETERMINED_RTOL:
-            name = system.tree.coordinates[k].name
-            owner = next((e.element.name for e in system.elements
-                          if name in getattr(e, "names", ())), None)
-            what = f"of force element '{owner}' " if owner else ""
-            raise ModelError(f"{system.model.source}: coordinate '{name}' {what}has neither "
-                             "mass nor stiffness nor damping and no loop determines it (a "
-                             "free direction of a massless element): give it stiffness, close "
-                             "it by a joint, or hang a body from it")
+            raise ModelError(f"{system.model.source}: coordinate '{name}' of force element "
+                             f"'{owners[name]}' has neither mass nor stiffness nor damping and "
+                             "no loop determines it (a free direction of a massless element): "
+                             "give it stiffness, close it by a joint, or hang a body from it")
 
 
 def _fit(values, speeds):
