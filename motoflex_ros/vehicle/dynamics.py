@@ -89,15 +89,29 @@ def _loop_description(tree):
     return " and ".join(p for p in parts if p)
 
 
+def _carrying_mass(model, tree, frames):
+    """Mask of the coordinates that move a mass at the reference: a body with mass or inertia,
+    or a frame a force element couples a mass to (a superelement's ``couplings``)."""
+    moving = np.zeros(len(tree.coordinates), bool)
+    carried = [item.frame for item in tree.masses if item.mass > 0 or np.any(item.inertia)]
+    carried += [tree.body_frames[body] for element in model.elements
+                for body, coupling in getattr(element, "couplings", ()) if np.any(coupling)]
+    for frame in set(carried):
+        f = frames[frame]
+        moving |= np.any(f.Jw != 0, axis=0) | np.any(f.Jv != 0, axis=0)
+    return moving
+
+
 def _loop_dependent(model, tree, frames):
     """Coordinates solved from the loop-closure and lock constraints (coordinate partitioning).
 
     Locked coordinates first, then those a force element asks to be solved from its loop
     (``loop_coordinates()``: a massless bushing's, which would otherwise be independent
-    coordinates without mass); then, greedily, joint coordinates in order of declaration whose
-    constraint column adds rank (a coordinate named by a role, e.g. the steering angle, only
-    when nothing else will do). Declaration order keeps the mechanism's own joints dependent
-    and the coordinates a variant appends (lumped hinges, superelement end DOFs) independent.
+    coordinates without mass) unless they move a mass (a bushing that carries a body); then,
+    greedily, joint coordinates in order of declaration whose constraint column adds rank
+    (a coordinate named by a role, e.g. the steering angle, only when nothing else will do).
+    Declaration order keeps the mechanism's own joints dependent and the coordinates a variant
+    appends (lumped hinges, superelement end DOFs) independent.
     ConfigError when the constraints are redundant (rank below their count): a loop that is
     over-constrained.
     """
@@ -121,7 +135,9 @@ def _loop_dependent(model, tree, frames):
     locked = [k for k in joints if tree.coordinates[k].locked]
     preferred = {name for element in model.elements
                  for name in getattr(element, "loop_coordinates", tuple)()}
-    first = [k for k in joints if k not in locked and tree.coordinates[k].name in preferred]
+    carrying = _carrying_mass(model, tree, frames)
+    first = [k for k in joints if k not in locked and not carrying[k]
+             and tree.coordinates[k].name in preferred]
     others = [k for k in joints if k not in locked and k not in first]
     order = locked + first + [k for k in others if tree.coordinates[k].name not in roles]
     order += [k for k in others if tree.coordinates[k].name in roles]

@@ -149,7 +149,8 @@ def body_superelement(component, body, parent, reference, beta=0.0, name=None):
                         beta * k, ((parent, coupling),), body.n_modes, ends)
 
 
-def body_elements(component, bodies, hangs, welds=None, open_springs=(), zeta=None):
+def body_elements(component, bodies, hangs, welds=None, open_springs=(), carried=None,
+                  zeta=None):
     """The engine elements of a beam component's flexible bodies (module docstring).
 
     component: a beam :class:`~motoflex_ros.structures.components.Component`; bodies: its
@@ -158,8 +159,13 @@ def body_elements(component, bodies, hangs, welds=None, open_springs=(), zeta=No
     mount, names the vehicle body its node is on; a clamp node of that kind may be left out
     when ``welds`` names it); welds: {clamp node name: vehicle body} (None: no welds, the
     caller joins ``clamps`` itself); open_springs: (node1, node2) name pairs of springs the
-    caller replaces by a vehicle joint (returned as :class:`OpenSpring`, no bushing); zeta:
-    the damping ratio (None: the component's). Returns :class:`BodyElements`.
+    caller replaces by a vehicle joint (returned as :class:`OpenSpring`, no bushing);
+    carried: {(node1, node2): vehicle body P}: that spring's bushing carries P as a fixed tree
+    child instead of closing onto it by a cut joint (P, not attached otherwise, is the body
+    one of the two nodes hangs from; the bushing hangs from the other node's body), so that P's
+    six rigid coordinates are the bushing's (a body held by one spring: a stanchion in its
+    fork-bridge joint, a wheel carrier on its pivot); zeta: the damping ratio (None: the
+    component's). Returns :class:`BodyElements`.
     """
     source = component.source or component.name
     welds = dict(welds or {})
@@ -197,6 +203,7 @@ def body_elements(component, bodies, hangs, welds=None, open_springs=(), zeta=No
             node_bodies[label] = end_body(se, label)
     body_of = {n: i for i, b in enumerate(bodies) for n in b.nodes}
     wanted_open = {frozenset(pair) for pair in open_springs}
+    carriers = {frozenset(pair): body for pair, body in (carried or {}).items()}
     bushings, closures, spherical, left_open = [], [], [], []
     for n1, n2, block in component.structure.springs:
         if body_of[n1] == body_of[n2]:
@@ -211,16 +218,24 @@ def body_elements(component, bodies, hangs, welds=None, open_springs=(), zeta=No
             left_open.append(OpenSpring(a, b, node_bodies[a], node_bodies[b], xyz[n1].copy(),
                                         np.array(block)))
             continue
+        carry = carriers.pop(frozenset((a, b)), None)
+        if carry is not None and carry not in (node_bodies[a], node_bodies[b]):
+            raise ModelError(f"{source}: carried: the spring {a}-{b} joins bodies on "
+                             f"'{node_bodies[a]}' and '{node_bodies[b]}', not '{carry}'")
+        if carry is not None and node_bodies[a] == carry:
+            a, b = b, a     # hang from the other node's body: x = u_b - u_a, same energy
         if node_bodies[a] == node_bodies[b]:
             continue        # both ends on one rigid vehicle body: the spring never deforms
         element = bushing(f"{component.name}_{a}_{b}", node_bodies[a], xyz[n1], block,
                           beta * np.asarray(block))
         bushings.append(element)
-        closures.append(Joint(f"{element.name}_close", "fixed", end_body(element),
-                              node_bodies[b], _AXES[0], xyz[n1].copy(), cut=True))
-    if wanted_open:
-        pairs = ", ".join("-".join(sorted(p)) for p in wanted_open)
-        raise ModelError(f"{source}: open_springs {pairs}: no spring joins two bodies there")
+        closures.append(Joint(f"{element.name}_close" if carry is None else
+                              f"{element.name}_carry", "fixed", end_body(element),
+                              node_bodies[b], _AXES[0], xyz[n1].copy(), cut=carry is None))
+    for what, left in (("open_springs", wanted_open), ("carried", carriers)):
+        if left:
+            pairs = ", ".join("-".join(sorted(p)) for p in left)
+            raise ModelError(f"{source}: {what} {pairs}: no spring joins two bodies there")
     for master, slave, dofs in component.structure.links:
         if body_of[master] == body_of[slave]:
             continue
@@ -269,26 +284,47 @@ def _free_chain(name, parent, point):
     return bodies, joints
 
 
-def bench_model(component, bodies=None, zeta=None):
+def bench_model(component, bodies=None, zeta=None, carry=False):
     """The component on the bench in the engine: a fixed-base VehicleModel (gravity 0) with
     its flexible bodies (:func:`body_elements`), its clamps welded to the body 'ground'.
 
-    A body that holds a clamp hangs from the ground at its first clamp node; every other body
-    hangs at its first boundary node from its own free rigid body '<body>_rigid' (six joints
-    from the ground; mass, centre of mass and inertia of
+    A body that holds a clamp hangs from the ground at its first clamp node. Every other body
+    hangs from its own rigid body '<body>_rigid' (mass, centre of mass and inertia of
     :func:`~motoflex_ros.structures.bodies.body_mass_properties`), which carries its rigid
-    motion and mass. ``bodies``: :func:`~motoflex_ros.structures.bodies.reduce_bodies` of the
-    component (None: reduced here with the defaults). Returns (VehicleModel, BodyElements).
+    motion and mass: ``carry`` False: the rigid body on six joints from the ground, the body
+    hanging at its first boundary node; ``carry`` True: where a spring joins the body to one
+    already placed (clamped bodies first, then outwards), the rigid body carried by that
+    spring's bushing (``carried`` of :func:`body_elements`) and the body hanging at the
+    spring's node; six joints from the ground only for a body no spring reaches.
+    ``bodies``: :func:`~motoflex_ros.structures.bodies.reduce_bodies` of the component
+    (None: reduced here with the defaults). Returns (VehicleModel, BodyElements).
     """
     bodies = reduce_bodies(component) if bodies is None else bodies
     clamps = set(component.clamp_nodes)
     xyz = component.node_xyz + component.origin
+    body_of = {n: b.name for b in bodies for n in b.nodes}
     rigid_bodies = [Body("ground", 0.0, np.zeros(3), np.zeros((3, 3)))]
-    rigid_joints, hangs = [], {}
+    rigid_joints, hangs, carried = [], {}, {}
     for body in bodies:
         held = [n for n in body.boundary if n in clamps]
         if held:
             hangs[body.name] = ("ground", _node_name(component, held[0]))
+    springs = [(n1, n2) for n1, n2, _ in component.structure.springs
+               if body_of[n1] != body_of[n2]]
+    while carry:
+        step = [(a, b) for n1, n2 in springs for a, b in ((n1, n2), (n2, n1))
+                if body_of[a] in hangs and body_of[b] not in hangs]
+        if not step:
+            break
+        a, b = step[0]
+        body = next(x for x in bodies if x.name == body_of[b])
+        name = f"{body.name}_rigid"
+        hangs[body.name] = (name, _node_name(component, b))
+        carried[(_node_name(component, a), _node_name(component, b))] = name
+        mass, com, inertia = body_mass_properties(component.structure, body.nodes)
+        rigid_bodies.append(Body(name, mass, com + component.origin, inertia))
+    for body in bodies:
+        if body.name in hangs:
             continue
         ref = body.boundary[0]
         mass, com, inertia = body_mass_properties(component.structure, body.nodes)
@@ -298,7 +334,7 @@ def bench_model(component, bodies=None, zeta=None):
         rigid_joints += chain_joints
         hangs[body.name] = (name, _node_name(component, ref))
     welds = {_node_name(component, c): "ground" for c in component.clamp_nodes}
-    built = body_elements(component, bodies, hangs, welds, zeta=zeta)
+    built = body_elements(component, bodies, hangs, welds, carried=carried, zeta=zeta)
     model = VehicleModel(f"{component.name}_bench", f"{component.source or component.name} "
                          "(bench, flexible bodies)", 0.0, "ground", tuple(rigid_bodies),
                          tuple(rigid_joints), (), base="fixed")
