@@ -9,7 +9,9 @@ Modules (vector helpers: :mod:`motoflex_ros.spatial`): ``model`` (dataclasses an
 data), ``schema`` (YAML validation), ``kinematics`` (tree kinematics), ``contact`` (rolling
 contact on the toroidal tyre), ``tyre`` (linear and Magic Formula tyres), ``dynamics`` (Kane
 residual), ``linearize`` (complex-step linearization, speed polynomial), ``modes`` (MAC tracking
-of weave/wobble/capsize), ``response`` (steer-pulse response).
+of weave/wobble/capsize), ``response`` (steer-pulse response), ``superelement`` (Craig-Bampton
+superelements with one or several ends, bushings), ``flexible_bodies`` (a beam component as the
+paper's flexible bodies: per-body superelements, bushings, spherical links, clamp welds).
 
 Public API::
 
