@@ -14,7 +14,8 @@ and comma-separated --components still work, with a deprecation warning.
 weave/wobble frequency and real part against speed (PNG).
 
 --flex puts the components' flexibility into the rigid vehicle: ``flexible`` (Craig-Bampton
-superelements of the clamped components) or a lumped variant (state_of_the_art, static,
+superelements of the clamped components), ``flexible_bodies`` (the paper's per-body
+superelements joined by the vehicle's joints) or a lumped variant (state_of_the_art, static,
 torsion, bending, decomposed; Passigato et al. 2023, Sect. 5.2) identified by the bench (run
 offline unless --identified gives a result file of ``motoflex identify --out``). --use FILE
 puts the engineer's own component (a beam, mesh or superelement YAML) in the role its name
@@ -43,7 +44,7 @@ from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import MODE_NAMES, modal_sweep
 from motoflex_ros.vehicle.schema import SPEED_MAX_MPS
-from motoflex_ros.vehicle.variants import FLEX_CHOICES, parse_components
+from motoflex_ros.vehicle.variants import FLEX_CHOICES, FLEXIBLE, parse_components
 
 __all__ = ["register", "run", "requested_speeds", "sweep_to_json", "model_to_json"]
 
@@ -74,7 +75,8 @@ def register(subparsers):
     parser.add_argument("--json", action="store_true", help="print JSON only")
     parser.add_argument("--plot", metavar="DIR", help="write root locus and mode plots (PNG)")
     parser.add_argument("--flex", default="rigid", choices=FLEX_CHOICES,
-                        help="rigid (default), flexible or a lumped stiffness variant")
+                        help="rigid (default), flexible, flexible_bodies or a lumped "
+                             "stiffness variant")
     add_component_option(parser, "a component made flexible; repeatable (default: all three)")
     parser.add_argument("--identified", metavar="FILE",
                         help="identification results (YAML/JSON of motoflex identify --out)")
@@ -167,7 +169,7 @@ def variant_of(model, args):
     names = parse_components(args.component)
     components = motorcycle_components(names, component_roles(args.use))
     identified = {}
-    if args.flex != "flexible":
+    if args.flex not in FLEXIBLE:
         identified = identification_results(args.identified, list(components.values()))
     return build_variant(model, args.flex, names, identified, components)
 

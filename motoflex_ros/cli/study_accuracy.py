@@ -60,6 +60,10 @@ def register_accuracy(sub):
     add_force_option(p)
     p.add_argument("--vehicle-load-kmh", type=float, default=100.0,
                    help="speed [km/h] of the mode loading the vehicle_load test (default 100)")
+    p.add_argument("--ground-truth", choices=("flexible", "flexible_bodies"), default="flexible",
+                   help="the flexible motorcycle: one clamped superelement per component "
+                        "(default) or the per-body superelements joined by the vehicle's "
+                        "joints (slower: about 2 min)")
     p.add_argument("--vehicle-load-mode", choices=("wobble", "weave"), default="wobble",
                    help="mode whose wrench loads the vehicle_load test (default wobble)")
     p.set_defaults(func=run_accuracy)
@@ -187,7 +191,8 @@ def run_accuracy(args):
     with progress_bar(len(cases) * (1 + len(ACCURACY_VARIANTS)), "models", "model") as bar:
         result = accuracy_study(vehicle, components, identified, speeds, cases=cases,
                                 progress=lambda: bar.update(1), vehicle_load_speed=load_speed,
-                                vehicle_load_mode=args.vehicle_load_mode)
+                                vehicle_load_mode=args.vehicle_load_mode,
+                                ground_truth=args.ground_truth)
     if details_path:
         atomic_write_text(details_path, json.dumps(to_jsonable(details(result)), indent=1,
                                                    allow_nan=False) + "\n")

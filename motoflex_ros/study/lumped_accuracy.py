@@ -75,10 +75,12 @@ def _curves(sweep):
     return {mode: np.asarray(sweep.modes[mode]) for mode in ("weave", "wobble")}
 
 
-def flexible_motorcycle(vehicle, components, identified, names, speeds):
+def flexible_motorcycle(vehicle, components, identified, names, speeds, variant="flexible"):
     """(LinearVehicle, {"weave", "wobble"}: eigenvalues over ``speeds`` [1/s]) of the flexible
-    motorcycle with the components ``names`` flexible (the accuracy study's ground truth)."""
-    lin = linearize(build_variant(vehicle, "flexible", list(names), identified, components))
+    motorcycle with the components ``names`` flexible (the accuracy study's ground truth):
+    ``variant`` 'flexible' (one clamped superelement per component) or 'flexible_bodies' (the
+    per-body superelements joined by the vehicle's joints)."""
+    lin = linearize(build_variant(vehicle, variant, list(names), identified, components))
     return lin, _curves(modal_sweep(lin, speeds))
 
 
@@ -106,7 +108,8 @@ def mode_errors(lumped, flexible, label):
 
 def accuracy_study(vehicle, components, identified, speeds, cases=CASES,
                    variants=ACCURACY_VARIANTS, progress=None,
-                   vehicle_load_speed=VEHICLE_LOAD_SPEED, vehicle_load_mode="wobble"):
+                   vehicle_load_speed=VEHICLE_LOAD_SPEED, vehicle_load_mode="wobble",
+                   ground_truth="flexible"):
     """The accuracy study; ``progress`` (optional) is called once per model swept.
 
     Parameters
@@ -126,15 +129,20 @@ def accuracy_study(vehicle, components, identified, speeds, cases=CASES,
     vehicle_load_speed, vehicle_load_mode : float, str
         Speed [m/s] and mode of the flexible motorcycle whose wrench loads the vehicle_load
         test (default the wobble at 100 km/h).
+    ground_truth : str
+        The flexible motorcycle the lumped ones are measured against: 'flexible' (one clamped
+        superelement per component) or 'flexible_bodies' (per-body superelements joined by the
+        vehicle's joints). The vehicle_load test takes the wrench from the 'flexible' one (the
+        wrench its superelement's loaded end carries).
 
     """
     errors, curves, flexible_models = {}, {}, {}
 
-    def flexible(names):
-        key = tuple(names)
+    def flexible(names, variant=ground_truth):
+        key = (tuple(names), variant)
         if key not in flexible_models:
             flexible_models[key] = flexible_motorcycle(vehicle, components, identified, names,
-                                                       speeds)
+                                                       speeds, variant)
         return flexible_models[key]
 
     needed = sorted({n for case in cases for n in (COMPONENTS if case == "all" else [case])},
@@ -145,8 +153,9 @@ def accuracy_study(vehicle, components, identified, speeds, cases=CASES,
     if set(variants) & {"road_load", "vehicle_load", "fitted"}:
         setups = {name: setup_campaign(components[name]) for name in needed}
         road = road_load_tests(vehicle, components, needed, setups)
-        carried = vehicle_load_tests({n: flexible([n])[0] for n in needed}, components, needed,
-                                     vehicle_load_speed, vehicle_load_mode, setups)
+        carried = vehicle_load_tests({n: flexible([n], "flexible")[0] for n in needed},
+                                     components, needed, vehicle_load_speed, vehicle_load_mode,
+                                     setups)
         loads = {n: {"road_load": road[n], "vehicle_load": carried[n][0],
                      "wrench": carried[n][1]} for n in needed}
     results = identified

@@ -20,9 +20,10 @@ from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.results import results_source
 from motoflex_ros.identify.stiffness import GAMMA_S
 from motoflex_ros.vehicle import lumped
+from motoflex_ros.vehicle.flexible_motorcycle import per_body_vehicle
 from motoflex_ros.vehicle.lumped import HINGE_VARIANTS, VARIANTS, FlexJoint, axis_in_vehicle
 from motoflex_ros.vehicle.superelement import superelement_of
-from motoflex_ros.vehicle.variants import FLEX_CHOICES, flexible_vehicle
+from motoflex_ros.vehicle.variants import FLEX_CHOICES, FLEXIBLE, flexible_vehicle
 
 __all__ = ["build_variant", "flex_joints", "check_split_identifiable",
            "state_of_the_art_stiffness", "SOTA_LOAD", "GAMMA"]
@@ -149,9 +150,11 @@ def build_variant(vehicle, variant, names, identified, components):
                                                f"{', '.join(FLEX_CHOICES + HINGE_VARIANTS)}")
     if variant == "rigid":
         return vehicle
-    if variant == "flexible":
+    if variant in FLEXIBLE:
         for name in names:
             lumped.check_site(vehicle, name, lumped.site_of(components[name]))
+        if variant == "flexible_bodies":
+            return per_body_vehicle(vehicle, components, list(names))
         return flexible_vehicle(vehicle, {
             name: superelement_of(components[name], lumped.SUPERELEMENT_PARENT[name],
                                   follows=lumped.SUPERELEMENT_FOLLOWS.get(name))

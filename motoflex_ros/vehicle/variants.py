@@ -11,9 +11,13 @@ from motoflex_ros.errors import ConfigError
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.superelement import chain_parts, end_body
 
-__all__ = ["FLEX_CHOICES", "parse_components", "flexible_vehicle", "variant_label"]
+__all__ = ["FLEX_CHOICES", "FLEXIBLE", "parse_components", "flexible_vehicle", "variant_label"]
 
-FLEX_CHOICES = ("flexible",) + lumped.VARIANTS
+FLEX_CHOICES = ("flexible", "flexible_bodies") + lumped.VARIANTS
+"""``flexible``: one clamped superelement per component (the bench's reduced model);
+``flexible_bodies``: the paper's per-body superelements joined by the vehicle's joints
+(:mod:`motoflex_ros.vehicle.flexible_motorcycle`); then the lumped variants."""
+FLEXIBLE = ("flexible", "flexible_bodies")
 
 
 def parse_components(names, source="--component"):
@@ -38,6 +42,8 @@ def variant_label(variant, names):
         return "rigid"
     if variant == "flexible":
         return f"flexible {', '.join(names)}"
+    if variant == "flexible_bodies":
+        return f"flexible bodies of {', '.join(names)}"
     return f"lumped '{variant}' variant of {', '.join(names)}"
 
 
