@@ -8,7 +8,8 @@ Printed (best of several repeats, all measured in this run):
 * build + eigvals, and its ratio to eigvals alone on the same (171, n, n) stack;
 * the full modal sweep (eigenvectors on the tracking grid, MAC tracking of weave, wobble and
   capsize) and its ratio to eigvals alone;
-* the same for the flexible touring motorcycle (three Craig-Bampton superelements; target <= 2),
+* the same for the flexible touring motorcycle (three Craig-Bampton superelements, and the
+  per-body superelements joined by the vehicle's joints; target <= 2),
   and the wall time of the whole accuracy study (bench identification + 20 models; target
   <= 30 s).
 
@@ -61,13 +62,15 @@ def bench(name, model):
           f"{t_sweep / t_eig:.2f}")
 
 
-def flexible_touring():
+def flexible_touring(variant="flexible"):
+    """The touring motorcycle with all three components flexible: ``variant`` 'flexible' (one
+    clamped superelement each) or 'flexible_bodies' (per-body superelements, issue 12)."""
     from motoflex_ros.structures.components import load_component
     from motoflex_ros.study.variants import build_variant
     from motoflex_ros.vehicle.lumped import COMPONENTS
 
     components = {name: load_component(name) for name in COMPONENTS}
-    return build_variant(load_vehicle(config_path("vehicles", "touring")), "flexible",
+    return build_variant(load_vehicle(config_path("vehicles", "touring")), variant,
                          list(COMPONENTS), {}, components)
 
 
@@ -93,4 +96,5 @@ if __name__ == "__main__":
     for vehicle in ("touring", "whipple_benchmark"):
         bench(vehicle, load_vehicle(config_path("vehicles", vehicle)))
     bench("touring+flexible", flexible_touring())
+    bench("touring+flexible_bodies", flexible_touring("flexible_bodies"))
     bench_accuracy_study()
