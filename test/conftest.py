@@ -12,7 +12,15 @@ one process and the scopes do nothing.
 The scheduler is given here, not by ``xdist_group`` markers: pytest 9.2 reads a node's id from
 ``Node._id``, so xdist 3.8's ``--dist loadgroup`` (which renames ``item._nodeid``) no longer
 groups anything.
+
+Mesh reductions are cached on disk (structures/reduction_cache.py): each test process keeps
+its own cache in a temporary folder (removed at exit) unless MOTOFLEX_CACHE_DIR is set, so no
+run reads what another run or the user's ~/.cache left.
 """
+import atexit
+import os
+import shutil
+import tempfile
 from collections import OrderedDict
 from pathlib import Path
 
@@ -20,6 +28,11 @@ import pytest
 
 ROS_SCOPE = "ros-graph"
 HERE = Path(__file__).parent
+
+if "MOTOFLEX_CACHE_DIR" not in os.environ:
+    _CACHE = tempfile.mkdtemp(prefix="motoflex-cache-")
+    os.environ["MOTOFLEX_CACHE_DIR"] = _CACHE
+    atexit.register(shutil.rmtree, _CACHE, ignore_errors=True)
 
 
 def ros_files(rootpath):

@@ -26,6 +26,7 @@ from motoflex_ros.structures.clamped import (
     reduce_clamped,
 )
 from motoflex_ros.structures.craig_bampton import craig_bampton
+from motoflex_ros.structures.reduction_cache import load_reduction, reduction_key, store_reduction
 from motoflex_ros.structures.schema import load_component_config, structure_from_config
 
 __all__ = ["ComponentModel", "Component", "load_component", "tube_component",
@@ -102,13 +103,25 @@ class ComponentModel:
         asm = self.assembled()
         boundary = np.concatenate([asm.node_dofs(n) for n in self.interface_nodes])
         zeta = self.damping_ratio if zeta is None else zeta
-        try:
-            cb = craig_bampton(asm.K, asm.M, boundary, n_modes, f_max_hz, zeta)
-        except ModelError as exc:   # e.g. a singular interior stiffness: name the file
-            raise ModelError(f"{self.source or self.name}: {exc} ({self.singular_hint})"
-                             ) from None
+        inputs = self.reduction_inputs()
+        key = reduction_key(inputs, n_modes, f_max_hz) if inputs else None
+        cb = load_reduction(key, zeta) if key else None
+        if cb is None or not np.array_equal(cb.boundary, boundary):
+            try:
+                cb = craig_bampton(asm.K, asm.M, boundary, n_modes, f_max_hz, zeta)
+            except ModelError as exc:   # e.g. a singular interior stiffness: name the file
+                raise ModelError(f"{self.source or self.name}: {exc} ({self.singular_hint})"
+                                 ) from None
+            if key:
+                store_reduction(key, cb)
         self._check_damping_count(cb)
         return cb, asm
+
+    def reduction_inputs(self):
+        """Files whose bytes decide the reduction, for the on-disk cache
+        (:mod:`~motoflex_ros.structures.reduction_cache`); () for a model built from a YAML in
+        a fraction of a second (no cache)."""
+        return ()
 
     def _check_damping_count(self, cb):
         """ConfigError (file, key damping_ratio) when a per-mode list does not have one value

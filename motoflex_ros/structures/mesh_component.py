@@ -234,6 +234,10 @@ class MeshComponent(ComponentModel):
     kind = "mesh"
     singular_hint = "check that the mesh is one connected body and that mesh.clamps hold it"
 
+    def reduction_inputs(self):
+        """The YAML and the mesh file: their bytes decide the reduction (cached on disk)."""
+        return (self.source, self.mesh_file) if self.source and self.mesh_file else ()
+
     @property
     def n_mesh_nodes(self):
         """Number of mesh nodes (the spider masters follow them)."""
