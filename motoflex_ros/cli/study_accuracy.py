@@ -187,7 +187,8 @@ def run_accuracy(args):
     speeds = study_speeds(args.step_kmh, 85.0)
     vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
     components = motorcycle_components(roles=component_roles(args.use))
-    identified = identification_results(args.identified, list(components.values()))
+    needed = [n for n in components if n in cases or "all" in cases]
+    identified = identification_results(args.identified, [components[n] for n in needed])
     with progress_bar(len(cases) * (1 + len(ACCURACY_VARIANTS)), "models", "model") as bar:
         result = accuracy_study(vehicle, components, identified, speeds, cases=cases,
                                 progress=lambda: bar.update(1), vehicle_load_speed=load_speed,
