@@ -11,7 +11,9 @@ contact on the toroidal tyre), ``tyre`` (linear and Magic Formula tyres), ``dyna
 residual), ``linearize`` (complex-step linearization, speed polynomial), ``modes`` (MAC tracking
 of weave/wobble/capsize), ``response`` (steer-pulse response), ``superelement`` (Craig-Bampton
 superelements with one or several ends, bushings), ``flexible_bodies`` (a beam component as the
-paper's flexible bodies: per-body superelements, bushings, spherical links, clamp welds).
+paper's flexible bodies: per-body superelements, bushings, spherical links, clamp welds),
+``flexible_motorcycle`` (the touring motorcycle's per-body map: its flexible bodies joined by
+the vehicle's joints, ``--flex flexible_bodies``).
 
 Public API::
 
