@@ -5,8 +5,8 @@ from setuptools import find_packages, setup
 
 PACKAGE = "motoflex_ros"
 
-# Pins of the ROS 2 Jazzy PyPI wheels (docs/virtual-bench.md, "Installing"). Not in install_requires:
-# a colcon user gets rclpy and the message packages from the ROS distribution instead.
+# Pins of the ROS 2 Jazzy PyPI wheels (docs/virtual-bench.md, "Installing"). Kept out of
+# install_requires: a colcon user gets rclpy and the messages from the ROS distribution instead.
 ROS_JAZZY_WHEELS = [
     "ros-rclpy==7.1.6",
     "ros-rmw-fastrtps-cpp==8.4.3",
