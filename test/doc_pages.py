@@ -109,6 +109,23 @@ def run_example(text, cwd, env=None, timeout=300):
                           capture_output=True, text=True, timeout=timeout)
 
 
+def section_blocks(path, heading, language):
+    """The ``language`` blocks of ``path`` in the section whose heading line is ``heading``."""
+    lines = Path(path).read_text(encoding="utf-8").splitlines()
+    first = lines.index(heading) + 1   # the heading's line number
+    last = next((n for n, line in enumerate(lines[first:], first + 1)
+                 if line.startswith(heading.split()[0] + " ")), len(lines))
+    return [text for kind, text, line in fenced_blocks(path)
+            if kind == language and first < line < last]
+
+
+def commands(block):
+    """The commands of a shell block: continuation lines joined, comments dropped."""
+    joined = block.replace("\\\n", " ")
+    return [line.split("  #")[0].strip() for line in joined.splitlines()
+            if line.strip() and not line.lstrip().startswith("#")]
+
+
 def example_folder(tmp_path):
     """A working folder for the examples: the repository's bags/ and config/ linked in, so
     what an example writes lands in the temporary folder, not in the repository."""
