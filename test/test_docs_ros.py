@@ -38,10 +38,13 @@ def _wait(process, timeout):
 
 
 def test_bench_started_by_hand_as_documented(tmp_path):
-    """The page's commands, each its own process: the actuator ends by itself, the frame's k
-    is the one quoted, three nodes and the identification keep running until SIGINT (then
-    exit 0), and replay refuses the bag that has no status.json."""
+    """The page's commands, each its own process, the recorder with the page's parameters
+    file: the actuator ends by itself, the frame's k is the one quoted, three nodes and the
+    identification keep running until SIGINT (then exit 0, no message lost), and replay
+    refuses the bag that has no status.json."""
     block, = section_blocks(DOCS / "real-rig.md", HAND_STARTED, "console")
+    params, = section_blocks(DOCS / "real-rig.md", HAND_STARTED, "yaml")
+    (tmp_path / "recorder.yaml").write_text(params)
     (tmp_path / "bags").mkdir()
     scripts = os.path.dirname(sys.executable)
     with DomainLock() as lock:
