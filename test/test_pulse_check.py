@@ -6,6 +6,7 @@ discretisation of the linear one. One nonlinear run: about 5 s (10-15 s on a loa
 import numpy as np
 import pytest
 
+from motoflex_ros.cli.eig import pulse_check_to_json
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ModelError
 from motoflex_ros.study.pulse_check import PULSE_MODES, pulse_check
@@ -57,3 +58,14 @@ def test_nonlinear_response_follows_the_exact_linear_one(lin, check):
 def test_nonlinear_pulse_names_an_unknown_output(lin):
     with pytest.raises(ModelError, match="no state 'pitch_rate'"):
         nonlinear_steer_pulse(lin.system, SPEED, outputs=["pitch_rate"])
+
+
+def test_eig_pulse_check_json_carries_the_check(check):
+    """``motoflex eig --pulse-check --json``'s entry: the same numbers as the core's check."""
+    entry = pulse_check_to_json(check)
+    assert entry["speed_mps"] == SPEED and entry["torque_nm"] == 20.0
+    for mode, lam in check.linear.items():
+        got = entry["modes"][mode]
+        assert got["linear"] == [lam.real, lam.imag]
+        assert got["nonlinear"] == [check.nonlinear[mode].real, check.nonlinear[mode].imag]
+        assert (got["frequency_error"], got["real_error"]) == check.relative_errors()[mode]
