@@ -68,8 +68,9 @@ def pulse_check(lin, speed, torque=20.0, duration=0.05, t_end=1.5, dt=0.01):
         linear range (the default, 20 N m x 0.05 s, is the review's).
     t_end, dt : float
         Length of the record and sample period = integration step [s]. Cost: 4 t_end / dt
-        evaluations of the nonlinear derivative (each 3-5 residuals): about 5 s for the touring
-        motorcycle with the defaults on this 2-core machine.
+        evaluations of the nonlinear derivative (each a position solve and 3-4 residuals): about
+        6 s of CPU for the touring motorcycle with the defaults on this machine (2,061
+        residuals), more wall time when the machine is shared.
 
     Returns
     -------

@@ -38,11 +38,11 @@ def _reference_e(system, speed):
     return np.column_stack([residual(system, e, zero, speed) - base for e in np.eye(n)])
 
 
-def _derivative(system, x, speed, applied, lu):
+def _derivative(system, x, speed, applied, lu, guess):
     """The derivative x' solving R(x', x; v, applied) = 0; ModelError if Newton stalls."""
     q = positions(system, x, POSITION_NEWTON_STEPS)
     G = constraint_matrix(system, q)
-    xdot = np.zeros_like(x)
+    xdot = guess.copy()
     for _ in range(_MAX_XDOT_ITERATIONS):
         step = scipy.linalg.lu_solve(lu, residual(system, xdot, x, speed, applied, q=q, G=G))
         xdot = xdot - step
@@ -102,15 +102,16 @@ def nonlinear_steer_pulse(system, speed, torque=20.0, duration=0.05, t_end=1.5, 
     applied = np.zeros(len(system.tree.coordinates))
     steer = system.tree.index(joint)
     x = np.zeros(system.n_states)
+    k4 = np.zeros(system.n_states)   # Newton on x' starts from the previous stage's x'
     out = np.empty((steps, len(rows)))
     for k in range(steps):
         out[k] = x[rows]
         if k == steps - 1:
             break
         applied[steer] = torque if k < pulse_steps else 0.0
-        k1 = _derivative(system, x, speed, applied, lu)
-        k2 = _derivative(system, x + 0.5 * dt * k1, speed, applied, lu)
-        k3 = _derivative(system, x + 0.5 * dt * k2, speed, applied, lu)
-        k4 = _derivative(system, x + dt * k3, speed, applied, lu)
+        k1 = _derivative(system, x, speed, applied, lu, k4)
+        k2 = _derivative(system, x + 0.5 * dt * k1, speed, applied, lu, k1)
+        k3 = _derivative(system, x + 0.5 * dt * k2, speed, applied, lu, k2)
+        k4 = _derivative(system, x + dt * k3, speed, applied, lu, k3)
         x = x + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
     return PulseResponse(np.arange(steps) * dt, out, names, torque, pulse_steps * dt, speed)
