@@ -6,11 +6,13 @@ config/components/front_assembly.yaml), and the fork bridge rocking on the freed
 those links alone: its rocking stiffness goes to zero in proportion to the factor (a rocking
 mode's frequency as its square root), while at large factors the structure in series caps it."""
 import numpy as np
+import pytest
 
 from motoflex_ros.config import config_path
 from motoflex_ros.structures import load_component
 from motoflex_ros.study.tilt_stiffness import (
     JOINT_LINKS,
+    PARTS,
     bridge_rocking_stiffness,
     held_bridge,
     with_joint_link_tilt,
@@ -28,16 +30,31 @@ def _blocks(component):
     return out, links
 
 
-def test_factor_scales_only_the_joint_links_rotations():
-    nominal, links = _blocks(load_component("front_assembly"))
-    scaled, _ = _blocks(with_joint_link_tilt(7.0))
+@pytest.mark.parametrize("part", PARTS)
+def test_factor_scales_only_the_joint_links_rotations(part):
+    """"rotation": the links' 3 x 3 rotational blocks (300 N m/rad about every axis) times the
+    factor; "tilt": times the factor about the axes normal to the stanchion, unchanged about
+    the stanchion's own axis; every other spring, and the translations, unchanged."""
+    component = load_component("front_assembly")
+    nominal, links = _blocks(component)
+    scaled, _ = _blocks(with_joint_link_tilt(7.0, part=part))
     assert set(nominal) == set(scaled)
+    for (_, stanchion), key in zip(JOINT_LINKS, links):
+        block = nominal[key][3:, 3:]
+        np.testing.assert_allclose(np.linalg.eigvalsh(block), [300.0] * 3)
+        xyz = component.structure.xyz
+        names = component.node_names
+        axis = xyz[names[stanchion]] - xyz[names[stanchion.replace("top", "upper_bushing")]]
+        axis = axis / np.linalg.norm(axis)
+        normal = np.cross(axis, [0.0, 1.0, 0.0])
+        normal /= np.linalg.norm(normal)
+        rot = scaled[key][3:, 3:]
+        assert axis @ rot @ axis == pytest.approx(300.0 * (7.0 if part == "rotation" else 1.0))
+        assert normal @ rot @ normal == pytest.approx(300.0 * 7.0)
+        np.testing.assert_array_equal(scaled[key][:3], nominal[key][:3])
     for key, block in nominal.items():
-        want = block.copy()
-        if key in links:
-            np.testing.assert_allclose(np.linalg.eigvalsh(block[3:, 3:]), [300.0] * 3)
-            want[3:, 3:] *= 7.0
-        np.testing.assert_array_equal(scaled[key], want)
+        if key not in links:
+            np.testing.assert_array_equal(scaled[key], block)
 
 
 def test_bridge_rocking_is_held_by_the_joint_links_alone():

@@ -2,7 +2,8 @@
 """The per-body front assembly's bridge rocking and the joint links' tilt stiffness (issue 22).
 
 Usage: python tools/front_bridge_rocking.py [--speeds-kmh 40 100 160 210]
-                                            [--factors 1 3 10 30 100] [--rocking-modes]
+                                            [--factors 1 3 10 30 100] [--part tilt|rotation]
+                                            [--rocking-modes]
 
 Prints, for the touring motorcycle with the front assembly flexible
 (:mod:`motoflex_ros.study.tilt_stiffness`):
@@ -13,7 +14,9 @@ Prints, for the touring motorcycle with the front assembly flexible
 3. weave and wobble over speed for the one-clamped-superelement motorcycle, the per-body one
    with the head a revolute about the steering axis (the bridge held as on the bench) and the
    per-body one with the joint links' rotational stiffness times each factor; then, per factor,
-   the least-damped real part of each mode over the speeds and where it is.
+   the least-damped real part of each mode over the speeds and where it is. --part tilt
+   (default) scales the links' cardanic stiffness only, rotation their whole rotational block
+   (the torsion about the stanchions too).
 Minutes: one per-body linearization (about 85 s) per factor.
 """
 import argparse
@@ -25,6 +28,7 @@ from motoflex_ros.config import config_path
 from motoflex_ros.structures import load_component
 from motoflex_ros.study.tilt_stiffness import (
     FRONT,
+    PARTS,
     TILT_FACTORS,
     bridge_rocking_stiffness,
     tilt_sweep,
@@ -55,27 +59,30 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--speeds-kmh", type=float, nargs="+", default=[40, 100, 160, 210])
     parser.add_argument("--factors", type=float, nargs="+", default=list(TILT_FACTORS))
+    parser.add_argument("--part", choices=PARTS, default="tilt")
     parser.add_argument("--rocking-modes", action="store_true")
     args = parser.parse_args()
     speeds = np.asarray(args.speeds_kmh) / 3.6
     vehicle = load_vehicle(config_path("vehicles", "touring"))
     print("1. fork bridge on the freed head, rocking stiffness [N m/rad] (steering, pitch/roll):")
     for factor in args.factors:
-        print(f"   joint links x {factor:<6g} {np.round(bridge_rocking_stiffness(factor), 1)}")
+        stiffness = bridge_rocking_stiffness(factor, args.part)
+        print(f"   joint links' {args.part} x {factor:<6g} {np.round(stiffness, 1)}")
     if args.rocking_modes:
         per_body = build_variant(vehicle, "flexible_bodies", [FRONT], {},
                                  {FRONT: load_component(FRONT)})
         print("2. per-body modes between 2 and 6 Hz at 100 km/h:",
               ", ".join(f"{f:.2f} Hz ({c})" for f, c in
                         rocking_modes(linearize(per_body), 100 / 3.6)))
-    sweep = tilt_sweep(vehicle, speeds, args.factors,
+    sweep = tilt_sweep(vehicle, speeds, args.factors, args.part,
                        progress=lambda label: print(f"   ... {label}", file=sys.stderr))
     print("3. weave and wobble [1/s] at " + ", ".join(f"{v * 3.6:g}" for v in speeds) + " km/h")
     for mode in ("weave", "wobble"):
         print(f"   {'one clamped superelement':34s} {mode:6s} {_cells(sweep.superelement[mode])}")
         print(f"   {'per-body, head revolute':34s} {mode:6s} {_cells(sweep.held[mode])}")
         for factor, row in zip(sweep.factors, sweep.modes[mode]):
-            print(f"   {f'per-body, joint links x {factor:g}':34s} {mode:6s} {_cells(row)}")
+            label = f"per-body, links' {args.part} x {factor:g}"
+            print(f"   {label:34s} {mode:6s} {_cells(row)}")
     print("   least damped over the speeds [1/s] (at km/h):")
     least = sweep.least_damped()
     for k, factor in enumerate(sweep.factors):

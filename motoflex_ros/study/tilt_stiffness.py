@@ -6,10 +6,16 @@ handlebars) rocks on the head, held only by the rotational stiffness of the two 
 that seat the stanchion tops in the bridge: 300 N m/rad cardanic and torsional in
 config/components/front_assembly.yaml, an estimate no source gives and the bench never loads
 (its head clamp holds the bridge in all six directions). This study scales that stiffness by
-factors s (the links' 3 x 3 rotational spring blocks times s) and tabulates weave and wobble
-over speed, beside two references that do not depend on s: the per-body motorcycle with the
-head a revolute about the steering axis (the bridge held, as on the bench) and the motorcycle
-with one clamped superelement per component (the default ground truth).
+factors s and tabulates weave and wobble over speed. Two ways (``part``): "tilt" scales the
+cardanic stiffness only, about the axes normal to the stanchion (K_r' = D K_r D,
+D = sqrt(s) P + a a^T, P = I - a a^T, a the stanchion's axis from its top to its upper
+bushing; the torsion about the stanchion is left as it is); "rotation" scales the whole 3 x 3
+rotational block (cardanic and torsional, D = sqrt(s) I: the earlier tool's sweep). The
+torsional part carries part of the fork's torsion about the steering axis (the yaml: the joint
+links hold 2 x 22 % of it), so "rotation" also stiffens the front assembly in torsion, which
+moves wobble by itself. Beside them, two references that do not depend on s: the per-body
+motorcycle with the head a revolute about the steering axis (the bridge held, as on the bench)
+and the motorcycle with one clamped superelement per component (the default ground truth).
 
 Two limits tie it down. As s grows the bridge stops rocking and the per-body motorcycle goes
 to the held-bridge one. As s goes to zero the bridge's rocking stiffness at the head (head
@@ -32,12 +38,15 @@ from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.modes import modal_sweep
 
-__all__ = ["TiltSweep", "FRONT", "TILT_FACTORS", "JOINT_LINKS", "with_joint_link_tilt",
+__all__ = ["TiltSweep", "FRONT", "TILT_FACTORS", "JOINT_LINKS", "PARTS", "with_joint_link_tilt",
            "bridge_rocking_stiffness", "held_bridge", "tilt_sweep"]
 
 FRONT = "front_assembly"
 TILT_FACTORS = (1.0, 3.0, 10.0, 30.0, 100.0)
 JOINT_LINKS = (("fork_top_left", "stanchion_top_left"), ("fork_top_right", "stanchion_top_right"))
+_STANCHION_BELOW = {"stanchion_top_left": "stanchion_upper_bushing_left",
+                    "stanchion_top_right": "stanchion_upper_bushing_right"}
+PARTS = ("tilt", "rotation")
 _MODES = ("weave", "wobble")
 
 
@@ -48,16 +57,33 @@ def _spring_index(component, a, b):
                 if {n1, n2} == nodes)
 
 
-def with_joint_link_tilt(factor, component=None):
-    """The front assembly with its joint links' rotational stiffness times ``factor``.
+def _scaling(component, stanchion, factor, part):
+    """D (3, 3) of K_r' = D K_r D for one joint link (module docstring)."""
+    if part not in PARTS:
+        raise ValueError(f"part must be one of {PARTS}, got {part!r}")
+    if part == "rotation":
+        return np.sqrt(factor) * np.eye(3)
+    xyz = component.structure.xyz
+    names = component.node_names
+    axis = np.asarray(xyz[names[stanchion]], float) - xyz[names[_STANCHION_BELOW[stanchion]]]
+    axis = axis / np.linalg.norm(axis)
+    along = np.outer(axis, axis)
+    return np.sqrt(factor) * (np.eye(3) - along) + along
+
+
+def with_joint_link_tilt(factor, component=None, part="tilt"):
+    """The front assembly with its joint links' tilt (or whole rotational) stiffness scaled.
 
     Parameters
     ----------
     factor : float
-        Multiplies the 3 x 3 rotational block (cardanic and torsional, 300 N m/rad nominal) of
-        both joint-link springs (:data:`JOINT_LINKS`) [-]; translations unchanged.
+        Multiplies the joint links' (:data:`JOINT_LINKS`) cardanic stiffness (300 N m/rad
+        nominal) [-]; translations unchanged.
     component : Component, optional
         The front assembly to start from (default: the shipped one, loaded afresh).
+    part : {"tilt", "rotation"}
+        "tilt": the stiffness about the axes normal to the stanchion only; "rotation": the
+        whole rotational block, the torsion about the stanchion too (module docstring).
 
     Returns
     -------
@@ -71,19 +97,20 @@ def with_joint_link_tilt(factor, component=None):
         i = _spring_index(component, top, stanchion)
         n1, n2, block = springs[i]
         scaled = np.array(block, float)
-        scaled[3:, 3:] *= factor
+        d = _scaling(component, stanchion, factor, part)
+        scaled[3:, 3:] = d @ scaled[3:, 3:] @ d
         springs[i] = (n1, n2, scaled)
     return component
 
 
-def bridge_rocking_stiffness(factor=1.0):
+def bridge_rocking_stiffness(factor=1.0, part="tilt"):
     """Eigenvalues [N m/rad] (ascending) of the fork bridge's rotational stiffness at its head
     node, the head spring's rotations freed (the Telelever's spherical head joint; translations
-    kept), joint links at ``factor`` times nominal; FE bodies reduced and joined as the
+    kept), joint links' ``part`` at ``factor`` times nominal; FE bodies reduced and joined as the
     per-body motorcycle joins them (:func:`motoflex_ros.structures.bodies.assemble_bodies`).
 
     The inverse of the 3 x 3 rotational block of the bridge node's static compliance."""
-    component = with_joint_link_tilt(factor)
+    component = with_joint_link_tilt(factor, part=part)
     springs = component.structure.springs
     i = _spring_index(component, "steering_head", "fork_bridge")
     n1, n2, block = springs[i]
@@ -107,10 +134,12 @@ def held_bridge(per_body):
 class TiltSweep:
     """Weave and wobble [1/s] of the per-body motorcycle over tilt-stiffness factors.
 
-    ``factors`` (f,) [-], ``speeds`` (s,) [m/s]; ``modes`` {"weave", "wobble": complex
+    ``part`` ("tilt" or "rotation", :func:`with_joint_link_tilt`), ``factors`` (f,) [-],
+    ``speeds`` (s,) [m/s]; ``modes`` {"weave", "wobble": complex
     (f, s)}, nan where the mode is not found; ``held`` and ``superelement`` {mode: complex
     (s,)}: the held-bridge and the one-superelement references."""
 
+    part: str
     factors: np.ndarray
     speeds: np.ndarray
     modes: dict
@@ -118,12 +147,17 @@ class TiltSweep:
     superelement: dict
 
     def least_damped(self):
-        """{mode: (largest real part over the speeds (f,) [1/s], the speed there (f,) [m/s])}."""
+        """{mode: (largest real part over the speeds (f,) [1/s], the speed there (f,) [m/s])};
+        nan for a factor where the mode is named at no speed."""
         out = {}
         for mode, values in self.modes.items():
-            real = np.where(np.isfinite(values), values.real, -np.inf)
+            found = np.isfinite(values)
+            real = np.where(found, values.real, -np.inf)
             k = np.argmax(real, axis=1)
-            out[mode] = (real[np.arange(len(k)), k], self.speeds[k])
+            rows = np.arange(len(k))
+            none = ~found.any(axis=1)
+            out[mode] = (np.where(none, np.nan, real[rows, k]),
+                         np.where(none, np.nan, self.speeds[k]))
         return out
 
 
@@ -132,7 +166,7 @@ def _weave_wobble(model, speeds):
     return {m: np.asarray(sweep.modes[m], complex) for m in _MODES}
 
 
-def tilt_sweep(vehicle, speeds, factors=TILT_FACTORS, progress=None):
+def tilt_sweep(vehicle, speeds, factors=TILT_FACTORS, part="tilt", progress=None):
     """Weave and wobble of the per-body motorcycle, front assembly flexible, over ``factors``.
 
     Parameters
@@ -142,7 +176,9 @@ def tilt_sweep(vehicle, speeds, factors=TILT_FACTORS, progress=None):
     speeds : array (s,)
         Speeds [m/s].
     factors : sequence of float
-        Multipliers of the joint links' rotational stiffness (:func:`with_joint_link_tilt`).
+        Multipliers of the joint links' stiffness (:func:`with_joint_link_tilt`).
+    part : {"tilt", "rotation"}
+        What the factors scale (:func:`with_joint_link_tilt`).
     progress : callable, optional
         Called with a label before each linearization (they take minutes in all).
 
@@ -161,9 +197,9 @@ def tilt_sweep(vehicle, speeds, factors=TILT_FACTORS, progress=None):
     held = _weave_wobble(held_bridge(per_body), speeds)
     rows = []
     for factor in factors:
-        say(f"per-body, joint links x {factor:g}")
+        say(f"per-body, joint links' {part} x {factor:g}")
         model = build_variant(vehicle, "flexible_bodies", [FRONT], {},
-                              {FRONT: with_joint_link_tilt(factor)})
+                              {FRONT: with_joint_link_tilt(factor, part=part)})
         rows.append(_weave_wobble(model, speeds))
     modes = {m: np.array([row[m] for row in rows]) for m in _MODES}
-    return TiltSweep(np.asarray(factors, float), speeds, modes, held, superelement)
+    return TiltSweep(part, np.asarray(factors, float), speeds, modes, held, superelement)
