@@ -2,7 +2,8 @@
 motorcycle's NONLINEAR equations are integrated after the review's small steer pulse (20 N m x
 0.05 s) at 100 km/h; weave and wobble read back by the matrix pencil must lie within 1 % of the
 eigenvalues (frequency and real part), and the nonlinear response within 1 % of the exact
-discretisation of the linear one. One nonlinear run: about 6 s of CPU (wall time more on a loaded machine)."""
+discretisation of the linear one. One nonlinear run: about 6 s of CPU (more wall time on a
+loaded machine)."""
 import numpy as np
 import pytest
 
