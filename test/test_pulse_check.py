@@ -6,14 +6,16 @@ discretisation of the linear one. One nonlinear run: about 6 s of CPU (more wall
 loaded machine)."""
 import numpy as np
 import pytest
+import yaml
 
 from motoflex_ros.cli.eig import pulse_check_to_json
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ModelError
 from motoflex_ros.study.pulse_check import PULSE_MODES, pulse_check
 from motoflex_ros.units import kmh_to_ms
+from motoflex_ros.vehicle.dynamics import build_system
 from motoflex_ros.vehicle.linearize import linearize
-from motoflex_ros.vehicle.model import load_vehicle
+from motoflex_ros.vehicle.model import load_vehicle, vehicle_from_dict
 from motoflex_ros.vehicle.nonlinear_response import nonlinear_steer_pulse
 from motoflex_ros.vehicle.response import steer_pulse_response
 
@@ -54,6 +56,20 @@ def test_nonlinear_response_follows_the_exact_linear_one(lin, check):
     np.testing.assert_allclose(response.time, linear.time)
     scale = np.abs(linear.outputs).max(axis=0)
     assert np.all(np.abs(response.outputs - linear.outputs).max(axis=0) < 0.01 * scale)
+
+
+def test_nonlinear_pulse_refuses_massless_bodies():
+    """A massless body (as the lumped variants have) makes E singular: a clear ModelError."""
+    with open(config_path("vehicles", "whipple_benchmark"), encoding="utf-8") as stream:
+        data = yaml.safe_load(stream)
+    data["bodies"]["dangling"] = {"mass": 0.0, "com": [1.0, 0.0, 0.6]}
+    data["joints"]["dangling_hinge"] = {"type": "revolute", "parent": "rear_frame",
+                                        "child": "dangling", "axis": [0.0, 1.0, 0.0],
+                                        "point": [0.5, 0.0, 0.6], "stiffness": 300.0,
+                                        "damping": 20.0}
+    system = build_system(vehicle_from_dict(data, "dangling"))
+    with pytest.raises(ModelError, match="E is singular"):
+        nonlinear_steer_pulse(system, 5.0)
 
 
 def test_nonlinear_pulse_names_an_unknown_output(lin):
