@@ -13,6 +13,7 @@ from motoflex_ros.structures import load_component
 from motoflex_ros.study.tilt_stiffness import (
     JOINT_LINKS,
     PARTS,
+    TiltSweep,
     bridge_rocking_stiffness,
     held_bridge,
     with_joint_link_tilt,
@@ -79,3 +80,13 @@ def test_held_bridge_makes_only_the_head_revolute():
     kinds = {j.name: (j.kind, h.kind) for j, h in zip(per_body.joints, held.joints)}
     assert kinds["steer"] == ("spherical", "revolute")
     assert all(a == b for name, (a, b) in kinds.items() if name != "steer")
+
+
+def test_least_damped_takes_the_largest_real_part_and_marks_an_unnamed_mode():
+    speeds = np.array([10.0, 20.0, 30.0])
+    weave = np.array([[-1 + 2j, -0.5 + 2j, -0.7 + 2j], [np.nan, np.nan, np.nan]])
+    sweep = TiltSweep("tilt", np.array([1.0, 3.0]), speeds, {"weave": weave, "wobble": weave},
+                      {}, {})
+    real, where = sweep.least_damped()["weave"]
+    assert real[0] == -0.5 and where[0] == 20.0
+    assert np.isnan(real[1]) and np.isnan(where[1])
