@@ -24,10 +24,11 @@ component's identification.
 
 --pulse-check checks the eigenvalues in the time domain at each requested speed: the nonlinear
 equations integrated after a 20 N m x 0.05 s steer pulse, weave and wobble read back by the
-matrix pencil (:mod:`motoflex_ros.study.pulse_check`; seconds per speed; vehicles with massless
-bodies, as the lumped variants, are refused). --json adds "pulse_check": [{"speed_mps",
-"torque_nm", "duration_s", "modes": {mode: {"linear": [re, im], "nonlinear": [re, im],
-"frequency_error", "real_error"}}}] (relative errors, -).
+matrix pencil (:mod:`motoflex_ros.study.pulse_check`; about 6 s of CPU per speed for the rigid
+motorcycle, 20 s for a lumped variant, whose stiff hinges need Runge-Kutta sub-steps; a
+massless body that carries nothing makes E singular and is refused). --json adds
+"pulse_check": [{"speed_mps", "torque_nm", "duration_s", "modes": {mode: {"linear": [re, im],
+"nonlinear": [re, im], "frequency_error", "real_error"}}}] (relative errors, -).
 """
 import math
 import sys
