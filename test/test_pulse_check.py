@@ -16,7 +16,11 @@ from motoflex_ros.units import kmh_to_ms
 from motoflex_ros.vehicle.dynamics import build_system
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle, vehicle_from_dict
-from motoflex_ros.vehicle.nonlinear_response import nonlinear_steer_pulse
+from motoflex_ros.vehicle.nonlinear_response import (
+    RK4_RATE_LIMIT,
+    nonlinear_steer_pulse,
+    rk4_substeps,
+)
 from motoflex_ros.vehicle.response import steer_pulse_response
 
 SPEED = float(kmh_to_ms(100.0))
@@ -86,3 +90,12 @@ def test_eig_pulse_check_json_carries_the_check(check):
         assert got["linear"] == [lam.real, lam.imag]
         assert got["nonlinear"] == [check.nonlinear[mode].real, check.nonlinear[mode].imag]
         assert (got["frequency_error"], got["real_error"]) == check.relative_errors()[mode]
+
+
+@pytest.mark.parametrize("dt", [0.01, 0.05, 0.1])
+def test_substeps_follow_the_fastest_eigenvalue(lin, dt):
+    """The sub-step count comes from forward differences of the nonlinear derivative; it must
+    match the largest |eigenvalue| of the complex-step linearization (123.7 1/s at 100 km/h):
+    1, 4 and 7 Runge-Kutta steps per sample."""
+    fastest = np.max(np.abs(lin.eigenvalues(SPEED)))
+    assert rk4_substeps(lin.system, SPEED, dt) == int(np.ceil(fastest * dt / RK4_RATE_LIMIT))
