@@ -495,7 +495,7 @@ def test_failed_campaign_leaves_no_temporary_folder_and_keeps_its_logs(tmp_path,
                         f"{Path(work_dir) / 'log' / 'identification.log'}")
 
     monkeypatch.setattr(campaign, "run_graph", failing_run)
-    monkeypatch.setattr(campaign, "planned_duration", lambda *a: 1.0)
+    monkeypatch.setattr(campaign, "planned_run", lambda *a: (1.0, 1))
     bag = tmp_path / "bag"
     with pytest.raises(RunFailed) as info:
         campaign.run_campaign_graph(["tube"], bag)

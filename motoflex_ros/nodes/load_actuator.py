@@ -25,7 +25,7 @@ from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, campaign_setups, frame_
 from motoflex_ros.nodes.conversions import clock_msg, phase_cdr, seconds_to_ns, wrench_cdr
 from motoflex_ros.nodes.pacing import ReadyWatch, StallError
 from motoflex_ros.nodes.params import Param
-from motoflex_ros.nodes.runtime import ACK_TOPIC, RigNode, run_node
+from motoflex_ros.nodes.runtime import ACK_TOPIC, PROGRESS_TOPIC, RigNode, run_node
 
 __all__ = ["LoadActuatorNode", "main", "may_end_test"]
 
@@ -62,6 +62,9 @@ class LoadActuatorNode(RigNode):
                                 [self.clock_pub, *self.load_pubs.values(),
                                  *self.phase_pubs.values()], p["stall_timeout"])
         self.subscribe(KeyValue, ACK_TOPIC, self._on_ack)
+        # tests begun per component: the campaign's progress bar counts finished tests
+        self.progress_pub = self.advertise(KeyValue, PROGRESS_TOPIC)
+        self.tests_begun = dict.fromkeys(self.setups, 0)
         self.pending = {c: deque() for c in self.setups}  # ns awaiting their ack
         self.blocked = dict.fromkeys(self.setups, False)  # waiting for a steady sample's ack
         self.last_ns = dict.fromkeys(self.setups, -1)
@@ -128,16 +131,27 @@ class LoadActuatorNode(RigNode):
             self.pending[component].append(ns)
             self.last_ns[component] = ns
             self.ended.add(component)
-            return lambda: self.phase_pubs[component].publish(phase_cdr(end_ns=ns))
+
+            def publish_end():
+                self.phase_pubs[component].publish(phase_cdr(end_ns=ns))
+                self._publish_progress(component, self.tests_begun[component])
+            return publish_end
         ns = seconds_to_ns(sample.t)
         self.pending[component].append(ns)
         self.last_ns[component] = ns
         self.blocked[component] = may_end_test(sample)
+        self.tests_begun[component] += sample.test_start
+        finished = self.tests_begun[component] - 1 if sample.test_start else None
 
         def publish():
             self.phase_pubs[component].publish(phase_cdr(sample))  # CDR bytes, no message objects
             self.load_pubs[component].publish(wrench_cdr(ns, frame_id(component), sample.force))
+            if finished is not None:
+                self._publish_progress(component, finished)
         return publish
+
+    def _publish_progress(self, component, finished):
+        self.progress_pub.publish(KeyValue(key=component, value=str(finished)))
 
 
 def main(args=None):

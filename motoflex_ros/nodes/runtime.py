@@ -49,13 +49,14 @@ from motoflex_ros.nodes.rcl_take import Taker
 __all__ = ["RigNode", "FastSpinner", "run_node", "print_help", "publish_patiently",
            "message_class",
            "reliable_qos",
-           "latched_qos", "READY_TOPIC", "ACK_TOPIC", "GAP_EXIT_CODE"]
+           "latched_qos", "READY_TOPIC", "ACK_TOPIC", "PROGRESS_TOPIC", "GAP_EXIT_CODE"]
 
 READY_TOPIC = "rig/ready"   # relative: under the node's namespace
 MATCH_TIMEOUT_S = 5.0  # longest wait for the publishers' side of discovery [s]
 READY_HOLD_S = 0.3  # inputs must have been ready this long before /rig/ready [s]
 GAP_EXIT_CODE = 3  # a node that saw a sequence gap exits with this code
 ACK_TOPIC = "rig/ack"
+PROGRESS_TOPIC = "rig/progress"   # KeyValue: component, tests it finished (a few a run)
 
 
 def message_class(type_name):
