@@ -23,6 +23,7 @@ from std_msgs.msg import String
 
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, campaign_setups, frame_id, topic
 from motoflex_ros.nodes.conversions import clock_msg, phase_cdr, seconds_to_ns, wrench_cdr
+from motoflex_ros.nodes.interfaces import PACER_TOPICS, RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.pacing import ReadyWatch, StallError
 from motoflex_ros.nodes.params import Param
 from motoflex_ros.nodes.runtime import ACK_TOPIC, PROGRESS_TOPIC, RigNode, run_node
@@ -47,6 +48,18 @@ class LoadActuatorNode(RigNode):
               description="max wait for an ack, or for a node to be ready [s]"),
         Param("window", 256, 1, 100_000, description="max unacknowledged samples [-]"),
         Param("clock_period", 0.01, 0.0, 1.0, description="/clock every so much sim time [s]"),
+    )
+    TOPICS = RIG_TOPICS + PACER_TOPICS + (
+        Topic("pub", "clock", "rosgraph_msgs/msg/Clock", RELIABLE,
+              "simulated time: the earliest sample not yet acknowledged, every clock_period"),
+        Topic("pub", "bench/{c}/load", "geometry_msgs/msg/WrenchStamped", RELIABLE,
+              "commanded load at the loaded end (force.y = F_y [N]), frame <c>_clamp, "
+              "stamped with the sample's simulated time"),
+        Topic("pub", "bench/{c}/phase", "std_msgs/msg/String", RELIABLE,
+              "the sample's test, kind, phase and timing as JSON; {\"end_ns\": ...} ends the "
+              "component's campaign"),
+        Topic("pub", "rig/progress", "diagnostic_msgs/msg/KeyValue", RELIABLE,
+              "bench tests finished (key: component, value: count), for progress bars"),
     )
 
     def __init__(self):
