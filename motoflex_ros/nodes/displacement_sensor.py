@@ -22,7 +22,7 @@ from motoflex_ros.nodes.conversions import (
     pose_cdr,
     sample_from_phase,
 )
-from motoflex_ros.nodes.interfaces import RELIABLE, RIG_TOPICS, Topic
+from motoflex_ros.nodes.interfaces import PHASE_IN, RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.message_checks import BenchInputs
 from motoflex_ros.nodes.runtime import RigNode, run_node
 
@@ -35,8 +35,7 @@ class DisplacementSensorNode(RigNode):
     NAME = "displacement_sensor"
     PARAMS = BENCH_PARAMS
     TOPICS = RIG_TOPICS + (
-        Topic("sub", "bench/{c}/phase", "std_msgs/msg/String", RELIABLE,
-              "the load actuator's sample phase (JSON)"),
+        PHASE_IN,
         Topic("sub", "bench/{c}/markers/true", "geometry_msgs/msg/PoseArray", RELIABLE,
               "true marker positions [m]"),
         Topic("pub", "bench/{c}/markers/measured", "geometry_msgs/msg/PoseArray", RELIABLE,

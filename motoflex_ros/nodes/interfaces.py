@@ -10,8 +10,8 @@ from the root /); ``{c}`` stands for each component of the parameter ``component
 from dataclasses import dataclass
 
 __all__ = ["Topic", "RELIABLE", "LATCHED", "LATCHED_LAST", "SIM_TIME", "READY", "CLOCK_IN",
-           "RIG_TOPICS", "PACER_TOPICS", "ACK_OUT", "TF_STATIC", "TF_DYNAMIC", "topics_help",
-           "expand"]
+           "RIG_TOPICS", "PACER_TOPICS", "ACK_OUT", "TF_STATIC", "TF_DYNAMIC", "PHASE_IN",
+           "LOAD_IN", "topics_help", "expand"]
 
 RELIABLE = "reliable, keep all, volatile"
 LATCHED = "reliable, transient local (latched), last 100"
@@ -61,6 +61,10 @@ TF_STATIC = Topic("pub", "rig/tf_static", "geometry_msgs/msg/TransformStamped", 
                   "/tf_static, tf2_msgs/msg/TFMessage)")
 TF_DYNAMIC = Topic("pub", "rig/tf", "geometry_msgs/msg/TransformStamped", RELIABLE,
                    "moving frames, one transform a message (recorded as /tf)")
+PHASE_IN = Topic("sub", "bench/{c}/phase", "std_msgs/msg/String", RELIABLE,
+                 "the load actuator's sample phase (JSON): which test, which part of it")
+LOAD_IN = Topic("sub", "bench/{c}/load", "geometry_msgs/msg/WrenchStamped", RELIABLE,
+                "commanded load [N]")
 
 
 def expand(topics, components=(), conditions=()):
