@@ -96,12 +96,16 @@ class Monitor(Node):
                 bar.close()
 
     def _show(self, bar, tests_total):
+        """Bring the bar to what the graph did (tests finished, or simulated time)."""
         if tests_total:
             done = min(sum(self.tests_done.values()), tests_total)
             bar.set_postfix_str(f"simulated {self.sim_ns / 1e9:.1f} s", refresh=False)
         else:
             done = round(self.sim_ns / 1e9, 3)
-        bar.update(done - bar.n)
+        if done != bar.n:
+            bar.update(done - bar.n)
+        elif tests_total:
+            bar.refresh()   # the simulated time moves between tests (a log: no new line)
 
     def wait_finishers(self, graph, done, timeout):
         """Wait until every node in ``done`` exited 0 (the pacer first, then the finishers)."""
