@@ -5,8 +5,8 @@ from setuptools import find_packages, setup
 
 PACKAGE = "motoflex_ros"
 
-# Pins of the ROS 2 Jazzy PyPI wheels (see README, "Installing"). Kept out of install_requires:
-# a colcon user gets rclpy and the message packages from the ROS distribution instead.
+# Pins of the ROS 2 Jazzy PyPI wheels (docs/virtual-bench.md, "Installing"). Kept out of
+# install_requires: a colcon user gets rclpy and the messages from the ROS distribution instead.
 ROS_JAZZY_WHEELS = [
     "ros-rclpy==7.1.6",
     "ros-rmw-fastrtps-cpp==8.4.3",
@@ -64,7 +64,7 @@ setup(
         # gmsh: a hollow tube meshed as an engineer's FE tool does (test_mesh_gmsh.py)
         # pytest-xdist: ./test.sh runs the suite on two workers (test/conftest.py groups it)
         "test": ["pytest>=8", "ruff>=0.6", "pytest-benchmark>=4", "pillow>=10", "sympy>=1.12",
-                 "gmsh>=4.11", "pytest-xdist>=3.5"],
+                 "gmsh>=4.11", "pytest-xdist>=3.5", "mkdocs>=1.6", "mkdocs-material>=9.5"],
     },
     zip_safe=True,
     maintainer="motoflex_ros developers",
