@@ -100,35 +100,3 @@ def test_docs_page_is_written_from_the_declarations():
                           "--check"], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
 
-
-@pytest.mark.slow
-def test_bench_started_by_hand_as_the_docs_say(tmp_path):
-    """The page's shell block, run as it is (its domain id swapped for a free one): the
-    load actuator ends, the other nodes stop on SIGINT, the identification equals the
-    offline campaign's, and replay refuses the folder (no status.json) as the page says."""
-    import json
-
-    from test_campaign_graph import _assert_same
-
-    from motoflex_ros.bench.campaign import identify_components
-    from motoflex_ros.cli.output import to_jsonable
-    text = (ROOT / "docs" / "ros-interfaces.md").read_text()
-    block = re.search(r"## Starting the bench by hand.*?```bash\n(.*?)```", text, re.S).group(1)
-    assert "export ROS_DOMAIN_ID=42" in block
-    bin_dir = Path(sys.executable).parent
-    with DomainLock() as lock:
-        script = block.replace("ROS_DOMAIN_ID=42", f"ROS_DOMAIN_ID={lock.domain_id}")
-        script = (f'export PATH="{bin_dir}:$PATH"\n{script}\ncode=$?\n'
-                  "kill -INT $(jobs -p)\nwait\nexit $code\n")
-        (tmp_path / "bags").mkdir()
-        run = subprocess.run(["bash", "-c", script], cwd=tmp_path, capture_output=True,
-                             text=True, timeout=600)
-    assert run.returncode == 0, run.stderr[-3000:]
-    bag = tmp_path / "bags" / "by_hand"
-    live = json.loads((bag / "identification.json").read_text())
-    offline = {n: to_jsonable(r.identification.to_dict())
-               for n, (_, r) in identify_components(["swingarm"], seed=0).items()}
-    _assert_same(live, offline)
-    replay = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "replay", str(bag)],
-                            capture_output=True, text=True, timeout=120)
-    assert replay.returncode == 2 and "--allow-incomplete" in replay.stderr
