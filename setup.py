@@ -27,7 +27,10 @@ setup(
     packages=find_packages(exclude=["test", "test.*"]),
     package_data={PACKAGE: ["config/*/*.yaml", "config/*/*.xml", "config/components/mesh/*.yaml",
                             "config/components/mesh/*.msh"]},
-    include_package_data=True,
+    # the data is listed above; include_package_data would also take every file of the
+    # manifest and warn "Package would be ignored" for each config/ folder (importable as a
+    # namespace package motoflex_ros.config.*) in every colcon build
+    include_package_data=False,
     data_files=[
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
         ("share/" + PACKAGE, ["package.xml"]),

@@ -100,14 +100,14 @@ def register(subparsers):
 def requested_speeds(args):
     """Speeds [m/s] from --speeds-kmh, --speeds-ms or --range-kmh/--step-kmh; ConfigError on
     bad values, on a speed above SPEED_MAX_MPS and on more speeds than the 'speeds' limit (sized
-    before any array)."""
-    given = [(key, values, factor) for key, values, factor in
-             (("--speeds-kmh", args.speeds_kmh, 1 / 3.6), ("--speeds-ms", args.speeds_ms, 1.0))
+    before any array). Errors give the speed in the option's own unit."""
+    given = [(key, values, unit) for key, values, unit in
+             (("--speeds-kmh", args.speeds_kmh, "km/h"), ("--speeds-ms", args.speeds_ms, "m/s"))
              if values is not None]
     if given:
-        key, values, factor = given[0]
+        key, values, unit = given[0]
         check_limit("speeds", len(values), _ARGS, key)
-        speeds = np.asarray(values, float) * factor
+        given_speeds = np.asarray(values, float)
     else:
         step = args.step_kmh
         if step is None or not step > 0:
@@ -115,24 +115,28 @@ def requested_speeds(args):
         low, high = args.range_kmh
         if not high >= low:
             raise ConfigError(_ARGS, "--range-kmh", f"HI {high:g} must be >= LO {low:g}")
-        key = "--range-kmh"
-        check_top_speed(high / 3.6, key)
+        key, unit = "--range-kmh", "km/h"
+        check_top_speed(high / 3.6, key, unit)
         count = math.floor((high - low) / step + 1e-9) + 1
         check_limit("speeds", count, _ARGS, "--step-kmh", f"--range-kmh {low:g} {high:g} in "
                                                           f"steps of {step:g} km/h")
-        speeds = (low + step * np.arange(count)) / 3.6
-    bad = speeds[~(np.isfinite(speeds) & (speeds > 0))]
+        given_speeds = low + step * np.arange(count)
+    bad = given_speeds[~(np.isfinite(given_speeds) & (given_speeds > 0))]
     if bad.size:
-        raise ConfigError(_ARGS, key, f"speeds must be finite and > 0, got {bad[0]:g}")
-    check_top_speed(speeds.max(), key)
+        raise ConfigError(_ARGS, key, f"speeds must be finite and > 0 {unit}, "
+                                      f"got {bad[0]:g} {unit}")
+    speeds = given_speeds / 3.6 if unit == "km/h" else given_speeds
+    check_top_speed(speeds.max(), key, unit)
     return speeds
 
 
-def check_top_speed(speed, key, source=_ARGS):
-    """ConfigError when a speed [m/s] is above SPEED_MAX_MPS (400 km/h)."""
+def check_top_speed(speed, key, unit="m/s", source=_ARGS):
+    """ConfigError when a speed [m/s] is above SPEED_MAX_MPS (400 km/h); the message gives
+    the speed in ``unit`` (the option's: 'm/s' or 'km/h')."""
     if not speed <= SPEED_MAX_MPS:
+        shown = speed * 3.6 if unit == "km/h" else speed
         raise ConfigError(source, key, f"speeds must be at most {SPEED_MAX_MPS:.4g} m/s "
-                                       f"({SPEED_MAX_MPS * 3.6:g} km/h), got {speed:g} m/s")
+                                       f"({SPEED_MAX_MPS * 3.6:g} km/h), got {shown:g} {unit}")
 
 
 def _pair(z):

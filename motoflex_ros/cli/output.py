@@ -49,7 +49,8 @@ def print_table(header, rows, stream=None):
 
 
 def progress_bar(total, desc, unit):
-    """The verbs' progress bar: tqdm on stderr (stdout keeps the table or the JSON alone, so it
-    shows with --json too); off when stderr is not a terminal (tqdm's disable=None)."""
-    from tqdm import tqdm
-    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, disable=None)
+    """The verbs' progress bar on stderr (stdout keeps the table or the JSON alone, so it
+    shows with --json too): live on a terminal, a line per 10 % in a log
+    (:mod:`motoflex_ros.progress`)."""
+    from motoflex_ros.progress import progress_bar as bar
+    return bar(total=total, desc=desc, unit=unit)

@@ -18,7 +18,7 @@ from motoflex_ros.record.tf_bag import TF_LIVE, TF_STATIC_LIVE
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
            "bench_components",
-           "planned_duration", "RESULT_FILE", "VEHICLE_COMPONENTS", "VEHICLE_VARIANT"]
+           "planned_run", "RESULT_FILE", "VEHICLE_COMPONENTS", "VEHICLE_VARIANT"]
 
 RESULT_FILE = "identification.json"
 BENCH_LEAVES = ("load", "phase", "markers/true", "markers/measured", "pose", "structure")
@@ -110,16 +110,18 @@ def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_fi
     ]
 
 
-def planned_duration(components, noise=None, protocol=None):
-    """Longest planned simulated time over the components [s] (tests may settle sooner)."""
+def planned_run(components, noise=None, protocol=None):
+    """(longest planned simulated time over the components [s] (tests may settle sooner),
+    number of bench tests over all components)."""
     from motoflex_ros.bench.actuator import PAUSE_S
     from motoflex_ros.bench.campaign import setup_campaign
-    longest = 0.0
+    longest, tests = 0.0, 0
     for name in components:
         plan = setup_campaign(name, protocol, noise).plan
         total = sum(t.max_samples / t.rate_hz for t in plan.tests)
         longest = max(longest, total + PAUSE_S * (len(plan.tests) - 1))
-    return longest
+        tests += len(plan.tests)
+    return longest, tests
 
 
 def _diagnostic_array():
@@ -142,7 +144,8 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
     # parameters and logs in a temporary folder, removed at the end; on a failure the logs
     # are kept in the bag's folder (work_folder)
     with work_folder("motoflex_campaign_", work_dir, keep_logs_in=bag) as work_dir:
-        run = run_graph(specs, "load_actuator", planned_duration(components, noise, protocol),
+        duration_s, tests = planned_run(components, noise, protocol)
+        run = run_graph(specs, "load_actuator", duration_s, tests_total=tests,
                         work_dir=work_dir, progress=progress, finishers=finishers,
                         collect=[("vehicle/eigenvalues", _diagnostic_array())],
                         namespace=namespace)

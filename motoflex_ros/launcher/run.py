@@ -91,10 +91,12 @@ recorder, which subscribes once it has discovered each topic's publishers, last)
 
 def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=False,
               ready_timeout=READY_TIMEOUT_S, drain_timeout=30.0, finishers=(),
-              finish_timeout=300.0, namespace=None):
+              finish_timeout=300.0, namespace=None, tests_total=None):
     """Run ``specs`` until ``pacer`` exits 0 (and then every node in ``finishers``); returns a
     :class:`RunResult`. ``collect``: (topic, msg_type) pairs whose messages the monitor keeps
     (topics relative to ``namespace``, where every node runs: None or '/' for the root).
+    ``tests_total``: the bench tests the pacer plays (the progress bar counts them), else
+    the progress bar runs over ``duration_s`` of simulated time.
     """
     work_dir = Path(work_dir or tempfile.mkdtemp(prefix="motoflex_run_"))
     start = time.monotonic()
@@ -108,8 +110,9 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
                 graph = NodeGraph(specs, lock.domain_id, work_dir, namespace)
                 try:
                     graph.start()   # inside the try: a failure half-way stops what started
-                    collected = _monitor(graph, pacer, duration_s, collect, progress,
-                                         ready_timeout, (finishers, finish_timeout, drain_timeout))
+                    collected = _monitor(graph, pacer, (duration_s, tests_total), collect,
+                                         progress, ready_timeout,
+                                         (finishers, finish_timeout, drain_timeout))
                 except BaseException:
                     graph.stop()
                     raise
@@ -125,7 +128,7 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
     return RunResult(lock.domain_id, time.monotonic() - start, codes, collected)
 
 
-def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending):
+def _monitor(graph, pacer, planned, collect, progress, ready_timeout, ending):
     import rclpy
     from rclpy.signals import SignalHandlerOptions
 
@@ -139,7 +142,8 @@ def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending)
                           RunEndpoints(graph.endpoints_dir), graph.namespace)
         finishers, finish_timeout, drain_timeout = ending
         monitor.wait_ready(graph, pacer, ready_timeout, finishers)
-        monitor.follow(graph, pacer, duration_s, progress, finishers)
+        duration_s, tests_total = planned
+        monitor.follow(graph, pacer, duration_s, progress, finishers, tests_total)
         monitor.wait_finishers(graph, (pacer, *finishers), finish_timeout)
         monitor.drain(graph, (pacer, *finishers), drain_timeout)
         return monitor.collected

@@ -23,6 +23,7 @@ import sys
 import time
 
 from motoflex_ros.nodes.conversions import clock_ns_from_cdr, qos_dict
+from motoflex_ros.nodes.interfaces import RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.params import Param, ParameterError
 from motoflex_ros.nodes.runtime import RigNode, message_class, reliable_qos, run_node
 from motoflex_ros.record.mcap_bag import BagWriter
@@ -49,6 +50,14 @@ class Recorder(RigNode):
         Param("discovery_period", 0.2, 0.01, 60.0, description="topic discovery period [s]"),
         Param("batch_period", 0.005, 0.0, 1.0,
               description="pause between two waits when not acknowledging [s]"),
+    )
+    TOPICS = RIG_TOPICS + (
+        Topic("sub", "<each topic of topics>", "the topic's type", "the publishers' offered "
+              "QoS (reliable, keep all where they are reliable)", "recorded into the bag; "
+              "/rig/tf and /rig/tf_static are written as /tf and /tf_static "
+              "(tf2_msgs/msg/TFMessage)", when="as the topics appear"),
+        Topic("pub", "rig/ack", "diagnostic_msgs/msg/KeyValue", RELIABLE,
+              "recorded /clock times (value [ns]), pacing a replay", when="ack true"),
     )
 
     def __init__(self):

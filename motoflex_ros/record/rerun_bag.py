@@ -30,16 +30,15 @@ wall clock); ``sim_time`` is measured from the earliest stamp, which is 0 for a 
 import functools
 import json
 import re
-import sys
 from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
 import rerun as rr
-from tqdm import tqdm
 
 from motoflex_ros.bench.replay import recorded_samples, replayed_displacements, shipped_model
 from motoflex_ros.frames import BENCH_SPACING_M
+from motoflex_ros.progress import progress_bar
 from motoflex_ros.record import rerun_log as rl
 from motoflex_ros.record.mcap_bag import bag_info, read_messages
 from motoflex_ros.record.rerun_bag_vehicle import (
@@ -275,7 +274,7 @@ def convert_bag(bag_dir, rrd_path=None, motorcycle=None, progress=False):
     """
     bag_dir = Path(bag_dir)
     info = bag_info(bag_dir)
-    bar = tqdm(total=5, desc="rerun", unit="step", disable=not progress, file=sys.stderr)
+    bar = progress_bar(total=5, desc="rerun", unit="step", enabled=progress)
     bar.set_postfix_str(f"reading {info.message_count} messages")
     grouped = _collect(bag_dir)
     t0 = min((t for samples in grouped.values() for t, _ in samples if t is not None),

@@ -12,10 +12,9 @@ import sys
 import time
 from dataclasses import dataclass, field
 
-from tqdm import tqdm
-
 from motoflex_ros.cli.output import atomic_write_text, emit_json
 from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
+from motoflex_ros.progress import progress_bar
 
 __all__ = ["Source", "SOURCES", "RunData", "load_run_data", "FIG9_VARIANTS"]
 
@@ -139,8 +138,7 @@ def load_run_data(folder, compute=True, progress=True):
     if timings_path.is_file():
         run.campaign_timings, _ = _read(timings_path)
         run.campaign_timings = run.campaign_timings or {}
-    bar = tqdm(SOURCES, desc="report data", unit="source", disable=not progress,
-               file=sys.stderr)
+    bar = progress_bar(SOURCES, desc="report data", unit="source", enabled=progress)
     for source in bar:
         bar.set_postfix_str(source.name)
         start = time.perf_counter()
