@@ -30,7 +30,7 @@ from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType, Writer
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.files import atomic_write_bytes
+from motoflex_ros.files import atomic_write_bytes, open_output
 
 __all__ = ["BagError", "TopicInfo", "BagInfo", "BagMessage", "BagWriter", "message_definition",
            "type_hash", "bag_info", "read_messages", "repair", "find_mcap", "METADATA_FILE",
@@ -145,7 +145,7 @@ class BagWriter:
         self.path = check_new_bag_dir(path)
         self.path.mkdir(parents=True, exist_ok=True)
         self.mcap_file = self.path / f"{self.path.name}_0.mcap"
-        self._stream = open(self.mcap_file, "wb")  # noqa: SIM115 (closed in close())
+        self._stream = open_output(self.mcap_file)   # closed in close(); errors name the file
         kinds = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4,
                  "none": CompressionType.NONE}
         self._writer = Writer(self._stream, chunk_size=chunk_size,

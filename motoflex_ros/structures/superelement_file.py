@@ -22,6 +22,7 @@ Rows that belong to no interface node are the reduction's generalized (modal) co
 superelement enters the bench and the vehicle like our own reductions: its matrices are the
 Craig-Bampton model (no reduction is made again), the clamps' rows are deleted for the bench.
 """
+import io
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -31,6 +32,7 @@ import scipy.sparse as sp
 
 from motoflex_ros.config import Field, validate
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.files import atomic_write_bytes, atomic_write_text
 from motoflex_ros.structures.assembly import AssembledStructure
 from motoflex_ros.structures.components import DEFAULT_DAMPING_RATIO, ComponentModel
 from motoflex_ros.structures.craig_bampton import CraigBamptonModel, checked_damping_ratio
@@ -215,8 +217,9 @@ def export_superelement(component, directory, n_modes=20, f_max_hz=600.0):
     names = [by_index.get(i, f"node{i}") for i in component.interface_nodes]
     stem = component.name
     for suffix, matrix in (("K", cb.K), ("M", cb.M)):
-        mmwrite(str(directory / f"{stem}_{suffix}.mtx"), np.asarray(matrix), precision=17,
-                symmetry="symmetric")
+        buffer = io.BytesIO()
+        mmwrite(buffer, np.asarray(matrix), precision=17, symmetry="symmetric")
+        atomic_write_bytes(directory / f"{stem}_{suffix}.mtx", buffer.getvalue())
     zeta = component.damping_ratio
     cfg = {
         "component": "superelement", "name": stem,
@@ -235,5 +238,4 @@ def export_superelement(component, directory, n_modes=20, f_max_hz=600.0):
     if np.any(component.origin):
         cfg["placement"] = {"origin": [float(v) for v in component.origin]}
     path = directory / f"{stem}.yaml"
-    path.write_text(yaml.safe_dump(cfg, sort_keys=False))
-    return path
+    return atomic_write_text(path, yaml.safe_dump(cfg, sort_keys=False))
