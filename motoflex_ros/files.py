@@ -10,6 +10,7 @@ followed (its target is written, the link stays). Every failure, a full disk too
 """
 import errno
 import io
+import json
 import os
 import stat
 import tempfile
@@ -18,7 +19,7 @@ from pathlib import Path
 from motoflex_ros.errors import MotoflexError
 
 __all__ = ["OutputError", "check_output_path", "atomic_write_bytes", "atomic_write_text",
-           "atomic_save_figure", "file_kind", "open_output"]
+           "atomic_save_figure", "file_kind", "open_output", "read_json"]
 
 _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
@@ -142,6 +143,17 @@ def atomic_write_bytes(path, data):
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+def read_json(path):
+    """The data of the JSON file ``path``; OSError if it cannot be read, ValueError (a
+    one-line reason) if it is not UTF-8 JSON or is nested too deeply for Python (a file of
+    100,000 nested lists)."""
+    text = Path(path).read_text(encoding="utf-8")
+    try:
+        return json.loads(text)
+    except RecursionError:
+        raise ValueError("nested too deeply to be read") from None
 
 
 def atomic_write_text(path, text):

@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.files import OutputError, atomic_write_text
+from motoflex_ros.files import OutputError, atomic_write_text, read_json
 from motoflex_ros.launcher.interrupts import raise_on_sigterm
 from motoflex_ros.record.mcap_bag import METADATA_FILE, check_new_bag_dir
 
@@ -43,9 +43,9 @@ def read_status(folder):
     if not path.is_file():
         return None
     try:
-        status = json.loads(path.read_text())
+        status = read_json(path)
     except (OSError, ValueError) as exc:
-        return {"status": "unreadable", "reason": str(exc)}
+        return {"status": "unreadable", "reason": f"{STATUS_FILE}: {exc}"}
     return status if isinstance(status, dict) else {"status": "unreadable", "reason": "no dict"}
 
 

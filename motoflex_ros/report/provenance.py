@@ -64,6 +64,22 @@ def _commit_text(commit, dirty, note):
     return commit + (" (with uncommitted changes)" if dirty else ""), None
 
 
+def _noise_text(noise):
+    """'frame 5e-06, ...' of the record's sensor_noise_m, or (None, why) when it is not a
+    mapping of numbers (a hand-edited file)."""
+    if not noise:
+        return None, f"not in {PROVENANCE_FILE}"
+    if not isinstance(noise, dict) or not all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in noise.values()):
+        return None, f"{PROVENANCE_FILE}: key 'sensor_noise_m' is not a mapping of numbers [m]"
+    return ", ".join(f"{c} {v:g}" for c, v in noise.items()), None
+
+
+def _plain(value):
+    """A scalar of the record as it is; a list or mapping where a scalar belongs: None."""
+    return value if isinstance(value, (str, int, float)) else None
+
+
 def _run_rows(folder):
     record = read_provenance(folder)
     fields = ("command", "run started (UTC)", "motoflex_ros version", "git commit", "seed",
@@ -72,14 +88,14 @@ def _run_rows(folder):
         why = (record or {}).get("unreadable", f"no {PROVENANCE_FILE} in the run folder "
                                  "(a run made before motoflex campaign wrote it)")
         return [(f, None, why) for f in fields]
-    commit, why = _commit_text(record.get("git_commit"), record.get("git_dirty"),
-                               record.get("git_note"))
-    noise = record.get("sensor_noise_m") or {}
-    noise_text = ", ".join(f"{c} {v:g}" for c, v in noise.items()) or None
+    commit, commit_why = _commit_text(_plain(record.get("git_commit")),
+                                      record.get("git_dirty"), _plain(record.get("git_note")))
+    noise_text, noise_why = _noise_text(record.get("sensor_noise_m"))
     values = (record.get("command"), record.get("started_utc"), record.get("package_version"),
               commit, record.get("seed"), noise_text)
-    return [(f, v, PROVENANCE_FILE if v is not None else (why if f == "git commit" else
-                                                           f"not in {PROVENANCE_FILE}"))
+    missing = {"git commit": commit_why, "sensor noise [m]": noise_why}
+    return [(f, _plain(v), PROVENANCE_FILE if _plain(v) is not None else
+             (missing.get(f) or f"not in {PROVENANCE_FILE}"))
             for f, v in zip(fields, values)]
 
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from tqdm import tqdm
 
 from motoflex_ros.cli.output import atomic_write_text, emit_json
+from motoflex_ros.files import read_json
 from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
 
 __all__ = ["Source", "SOURCES", "RunData", "load_run_data", "FIG9_VARIANTS"]
@@ -70,8 +71,8 @@ class RunData:
 
 def _read(path):
     try:
-        return json.loads(path.read_text(encoding="utf-8")), None
-    except (OSError, json.JSONDecodeError) as exc:
+        return read_json(path), None
+    except (OSError, ValueError) as exc:
         return None, f"{path.name} unreadable ({exc})"
 
 
