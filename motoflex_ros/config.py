@@ -19,6 +19,7 @@ from pathlib import Path
 import yaml
 
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.files import missing_file_text
 
 __all__ = ["MOTORCYCLE_COMPONENTS", "Field", "number", "positive", "angle", "validate",
            "load_yaml", "load_config", "config_path", "resolve_config", "shipped_configs",
@@ -281,7 +282,7 @@ def load_yaml(path):
     become a ConfigError naming the file."""
     path = Path(path)
     if not path.is_file():
-        raise ConfigError(path, "", "file not found")
+        raise ConfigError(path, "", missing_file_text(path))
     size = path.stat().st_size
     if size > MAX_YAML_BYTES:
         raise ConfigError(path, "", f"{size} bytes is too large for a configuration file "
@@ -334,7 +335,7 @@ def resolve_config(kind, name_or_file):
     candidate = Path(name_or_file)
     if candidate.suffix in (".yaml", ".yml") or candidate.exists():
         if not candidate.is_file():
-            raise ConfigError(candidate, "", "file not found")
+            raise ConfigError(candidate, "", missing_file_text(candidate))
         return candidate
     path = config_path(kind, name_or_file)
     if not path.is_file():

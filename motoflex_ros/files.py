@@ -19,7 +19,7 @@ from pathlib import Path
 from motoflex_ros.errors import MotoflexError
 
 __all__ = ["OutputError", "check_output_path", "atomic_write_bytes", "atomic_write_text",
-           "atomic_save_figure", "file_kind", "open_output", "read_json"]
+           "atomic_save_figure", "file_kind", "open_output", "read_json", "missing_file_text"]
 
 _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
@@ -40,6 +40,19 @@ def file_kind(mode):
         if test(mode):
             return name
     return None if stat.S_ISREG(mode) else "not a regular file"
+
+
+def missing_file_text(path):
+    """Why an input ``path`` that is not a regular file cannot be read, in words: 'file not
+    found', 'is a directory, not a regular file', 'is a FIFO (named pipe), not a regular
+    file' (never opened: reading a FIFO or a device would block or never end)."""
+    try:
+        kind = file_kind(os.stat(path).st_mode)
+    except FileNotFoundError:
+        return "file not found"
+    except OSError as exc:
+        return f"cannot be read ({_os_problem(exc)})"
+    return f"is {kind}, not a regular file" if kind else "a regular file"
 
 
 def _os_problem(exc):

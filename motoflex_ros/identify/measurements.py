@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.files import missing_file_text
 
 __all__ = ["MeasurementError", "row_text", "check_increasing", "LoadStream", "MarkerStream",
            "Measurements", "CSV_HEAD", "marker_columns", "read_csv", "write_csv", "synchronise",
@@ -347,8 +348,7 @@ def read_csv(path, latency_s=0.0):
     from pathlib import Path
     path = Path(path)
     if not path.is_file():
-        what = "file not found" if not path.exists() else "not a regular file"
-        raise MeasurementError(path, what)
+        raise MeasurementError(path, missing_file_text(path))
     if path.stat().st_size > MAX_CSV_BYTES:
         raise MeasurementError(path, f"{path.stat().st_size} bytes is larger than "
                                      f"{MAX_CSV_BYTES} bytes")

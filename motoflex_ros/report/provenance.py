@@ -6,9 +6,9 @@ sensor noise, written by ``motoflex campaign``). A field the run does not record
 "not recorded" with the reason, never filled in; what built the report itself (version,
 commit, time) is listed apart, since it may differ from what made the run.
 """
-import yaml
-
 import motoflex_ros
+from motoflex_ros.config import load_yaml
+from motoflex_ros.errors import ConfigError
 from motoflex_ros.launcher.provenance import (
     PROVENANCE_FILE,
     git_state,
@@ -30,8 +30,8 @@ def _metadata(folder):
     if not path.is_file():
         return None, f"no {METADATA_FILE} (no bag in the run folder)"
     try:
-        return yaml.safe_load(path.read_text())["rosbag2_bagfile_information"], None
-    except (OSError, yaml.YAMLError, KeyError, TypeError) as exc:
+        return load_yaml(path)["rosbag2_bagfile_information"], None
+    except (OSError, ConfigError, KeyError, TypeError) as exc:
         return None, f"{METADATA_FILE} unreadable ({exc})"
 
 

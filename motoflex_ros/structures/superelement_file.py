@@ -32,7 +32,7 @@ import scipy.sparse as sp
 
 from motoflex_ros.config import Field, validate
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.files import atomic_write_bytes, atomic_write_text
+from motoflex_ros.files import atomic_write_bytes, atomic_write_text, missing_file_text
 from motoflex_ros.structures.assembly import AssembledStructure
 from motoflex_ros.structures.components import DEFAULT_DAMPING_RATIO, ComponentModel
 from motoflex_ros.structures.craig_bampton import CraigBamptonModel, checked_damping_ratio
@@ -170,7 +170,7 @@ def _mtx_size(path, source, key):
 def _matrix(path, source, key, size=None):
     from scipy.io import mmread
     if not path.is_file():
-        raise ConfigError(source, key, f"matrix file not found: {path}")
+        raise ConfigError(source, key, f"matrix file {path}: {missing_file_text(path)}")
     _mtx_size(path, source, key)
     try:
         matrix = mmread(str(path))
