@@ -201,8 +201,10 @@ class BagWriter:
         if self.closed:
             return
         self.closed = True
-        self._writer.finish()
-        self._stream.close()
+        try:
+            self._writer.finish()
+        finally:
+            self._stream.close()   # also when the finish failed (a full disk): no open file
         topics = tuple(TopicInfo(t, self._types[t], self._counts[t], self._qos[t])
                        for t in self._channels)
         start = self._first or 0
