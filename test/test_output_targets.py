@@ -21,7 +21,7 @@ from measured_cases import bench_yaml, cantilever_record
 
 from motoflex_ros import files
 from motoflex_ros.cli.main import main
-from motoflex_ros.files import OutputError, atomic_write_bytes, atomic_write_text
+from motoflex_ros.files import OutputError, atomic_write_text
 from motoflex_ros.identify.measurements import write_csv
 from motoflex_ros.launcher.status import read_status, run_status
 from motoflex_ros.record.mcap_bag import BagWriter
