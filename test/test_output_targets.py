@@ -13,40 +13,17 @@ import stat
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import pytest
+from hostile import refused
 from measured_cases import bench_yaml, cantilever_record
 
 from motoflex_ros import files
-from motoflex_ros.cli.main import main
 from motoflex_ros.files import OutputError, atomic_write_text
 from motoflex_ros.identify.measurements import write_csv
 from motoflex_ros.launcher.status import read_status, run_status
 from motoflex_ros.record.mcap_bag import BagWriter
-
-CPU_GUARD_S = 10.0   # [s] of this process's CPU time per refused command
-
-
-def cli(argv, capsys):
-    """(exit code, stderr) of ``motoflex argv`` run in this process, and its CPU time [s]."""
-    start = time.process_time()
-    code = main([str(a) for a in argv])
-    err = capsys.readouterr().err.strip()
-    return code, err, time.process_time() - start
-
-
-def refused(argv, capsys, *words):
-    """Run ``argv``; assert a non-zero exit, one line holding every word, no traceback, within
-    the CPU guard; returns the line."""
-    code, err, cpu = cli(argv, capsys)
-    assert code != 0, err
-    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
-    for word in words:
-        assert str(word) in err, (word, err)
-    assert cpu < CPU_GUARD_S
-    return err
 
 
 @pytest.fixture(scope="module")
