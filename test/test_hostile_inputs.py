@@ -236,7 +236,8 @@ def test_csv_with_a_byte_order_mark_is_read(tmp_path, rig):
 
 
 @pytest.mark.parametrize("record", [{}, "no git fields", {"sensor_noise_m": [1, 2],
-                                                         "git_commit": ["x"], "seed": {}}])
+                                                         "git_commit": ["x"], "seed": {}}],
+                         ids=["empty", "no git fields", "wrong types"])
 def test_provenance_without_fields_is_reported_as_not_recorded(tmp_path, record):
     """provenance.json without git fields, or {}, gave AttributeError in the report (a
     missing reason where the HTML expects text)."""
