@@ -9,6 +9,18 @@ CPU_GUARD_S = 10.0   # [s] of the command's CPU time
 WALL_GUARD_S = 10.0  # [s] of a child's wall time (what could hang: a FIFO, a device)
 
 
+def write_rig(folder):
+    """A measured cantilever record in ``folder``: (rig.csv, bench.yaml); ``identify
+    --measured`` takes about a second on it."""
+    from measured_cases import bench_yaml, cantilever_record
+
+    from motoflex_ros.identify.measurements import write_csv
+    t, wrench, points, _, q0 = cantilever_record(noise_m=5e-6)
+    write_csv(folder / "rig.csv", t, wrench, points)
+    (folder / "bench.yaml").write_text(bench_yaml("rig", q0, "from_data"))
+    return folder / "rig.csv", folder / "bench.yaml"
+
+
 def cli(argv, capsys):
     """(exit code, stderr, CPU time [s]) of ``motoflex argv`` run in this process."""
     from motoflex_ros.cli.main import main
@@ -33,11 +45,12 @@ def refused(argv, capsys, *words):
     return check_refusal(*cli(argv, capsys), words)
 
 
-def refused_in_child(argv, *words):
-    """Run ``argv`` in a child process (a command that could block) and check the refusal
-    within WALL_GUARD_S; returns the message."""
+def refused_in_child(argv, *words, module="motoflex_ros.cli.main", env=None):
+    """Run ``argv`` of ``module`` (the motoflex command, or a node) in a child process (a
+    command that could block) and check the refusal within WALL_GUARD_S; returns the
+    message."""
     start = time.monotonic()
-    run = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", *map(str, argv)],
+    run = subprocess.run([sys.executable, "-m", module, *map(str, argv)], env=env,
                          capture_output=True, text=True, timeout=WALL_GUARD_S + 50)
     wall = time.monotonic() - start
     assert wall < WALL_GUARD_S + 50

@@ -13,14 +13,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hostile import refused, refused_in_child
-from measured_cases import bench_yaml, cantilever_record
+from hostile import refused, refused_in_child, write_rig
+from measured_cases import bench_yaml
 from scipy.io import mmread, mmwrite
 
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError, MotoflexError
-from motoflex_ros.identify.measurements import MeasurementError, read_csv, write_csv
+from motoflex_ros.identify.measurements import MeasurementError, read_csv
 from motoflex_ros.launcher.status import IncompleteRun, require_complete
 from motoflex_ros.report.provenance import NOT_RECORDED, provenance_table
 from motoflex_ros.structures.components import load_component
@@ -51,11 +51,8 @@ def with_bomb(text, key):
 @pytest.fixture(scope="module")
 def rig(tmp_path_factory):
     """A measured cantilever record: (folder, its CSV's lines, the bench file)."""
-    folder = tmp_path_factory.mktemp("rig")
-    t, wrench, points, _, q0 = cantilever_record(noise_m=5e-6)
-    write_csv(folder / "rig.csv", t, wrench, points)
-    (folder / "bench.yaml").write_text(bench_yaml("rig", q0, "from_data"))
-    return folder, (folder / "rig.csv").read_text().splitlines(), folder / "bench.yaml"
+    csv_path, bench = write_rig(tmp_path_factory.mktemp("rig"))
+    return csv_path.parent, csv_path.read_text().splitlines(), bench
 
 
 def measured(csv_path, bench):
@@ -87,6 +84,20 @@ def test_alias_bomb_is_refused_at_once(tmp_path, capsys, rig, kind):
         argv = [str(path) if a == "{}" else a for a in argv]
     err = refused(argv, capsys, path, "aliases", "above the limit of 100,000")
     assert "lol" not in err and len(err) < 400
+
+
+def test_alias_bomb_in_a_node_parameters_file(tmp_path):
+    """A node's --params-file goes through the same loader (a process: a node, in a private
+    ROS domain and log folder)."""
+    from motoflex_ros.launcher.domain import DomainLock
+    from motoflex_ros.launcher.graph import ros_env
+    path = tmp_path / "params.yaml"
+    path.write_text(f"vehicle_simulator:\n  ros__parameters:\n    vehicle: {bomb()}\n")
+    with DomainLock() as lock:
+        err = refused_in_child(["--ros-args", "--params-file", path], path, "aliases",
+                               module="motoflex_ros.nodes.vehicle_simulator",
+                               env=ros_env(lock.domain_id, tmp_path / "ros_log"))
+    assert "lol" not in err
 
 
 def test_alias_loop_is_refused(tmp_path, capsys):
@@ -253,6 +264,18 @@ def test_provenance_without_fields_is_reported_as_not_recorded(tmp_path, record)
     assert values["git commit"] == NOT_RECORDED
     if "command" not in record:
         assert values["sensor noise [m]"] == NOT_RECORDED
+
+
+@pytest.mark.parametrize("metadata", ["rosbag2_bagfile_information: {duration: [1]}\n",
+                                      "rosbag2_bagfile_information: " + bomb() + "\n"],
+                         ids=["missing keys", "alias bomb"])
+def test_bad_bag_metadata_in_the_report(tmp_path, metadata):
+    """The report's provenance reads the bag's metadata.yaml: a malformed or bombed one is
+    'not recorded', with why, not a KeyError or a hang."""
+    (tmp_path / "metadata.yaml").write_text(metadata)
+    rows = {row[0].text: row for row in provenance_table(tmp_path).rows}
+    assert rows["messages in the bag"][1].text == NOT_RECORDED
+    assert "metadata.yaml unreadable" in rows["messages in the bag"][2].text
 
 
 def test_status_nested_100k_deep(tmp_path, capsys):

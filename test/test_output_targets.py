@@ -16,24 +16,19 @@ import tempfile
 from pathlib import Path
 
 import pytest
-from hostile import refused
-from measured_cases import bench_yaml, cantilever_record
+from hostile import refused, write_rig
 
 from motoflex_ros import files
 from motoflex_ros.files import OutputError, atomic_write_text
-from motoflex_ros.identify.measurements import write_csv
 from motoflex_ros.launcher.status import read_status, run_status
 from motoflex_ros.record.mcap_bag import BagWriter
 
 
 @pytest.fixture(scope="module")
 def measured(tmp_path_factory):
-    """A measured CSV and its bench file: ``identify --measured`` writes --out in ~1 s."""
-    folder = tmp_path_factory.mktemp("measured")
-    t, wrench, points, _, q0 = cantilever_record(noise_m=5e-6)
-    write_csv(folder / "rig.csv", t, wrench, points)
-    (folder / "bench.yaml").write_text(bench_yaml("rig", q0, "from_data"))
-    return ["identify", "--measured", folder / "rig.csv", "--bench", folder / "bench.yaml"]
+    """``identify --measured`` of a measured CSV and its bench file (writes --out in ~1 s)."""
+    csv_path, bench = write_rig(tmp_path_factory.mktemp("measured"))
+    return ["identify", "--measured", csv_path, "--bench", bench]
 
 
 @pytest.fixture()

@@ -40,10 +40,15 @@ def _bag_rows(folder):
     fields = ("bag start (UTC)", "bag duration [s]", "messages in the bag", "ROS distribution")
     if info is None:
         return [(f, None, why) for f in fields]
-    start_ns = info["starting_time"]["nanoseconds_since_epoch"]
-    return list(zip(fields, (utc_stamp(start_ns / 1e9), info["duration"]["nanoseconds"] / 1e9,
-                             info["message_count"], info.get("ros_distro")),
-                    [METADATA_FILE] * 4))
+    try:
+        start_ns = info["starting_time"]["nanoseconds_since_epoch"]
+        values = (utc_stamp(start_ns / 1e9), info["duration"]["nanoseconds"] / 1e9,
+                  int(info["message_count"]), _plain(info.get("ros_distro")))
+    except (KeyError, TypeError, ValueError, OverflowError, OSError) as exc:
+        why = f"{METADATA_FILE} unreadable (no valid {exc})" if isinstance(exc, KeyError) \
+            else f"{METADATA_FILE} unreadable ({exc})"
+        return [(f, None, why) for f in fields]
+    return list(zip(fields, values, [METADATA_FILE] * 4))
 
 
 def _status_rows(folder):
