@@ -8,6 +8,8 @@ before work: the CSV reader's peak is measured with tracemalloc on files far abo
 import json
 import os
 import shutil
+import subprocess
+import sys
 import tracemalloc
 from pathlib import Path
 
@@ -387,6 +389,34 @@ def test_failed_replay_keeps_its_logs_beside_its_output(tmp_path, capsys, monkey
     refused(["replay", EXAMPLE, "--identify", out], capsys, kept)
     assert kept.read_text() == "the node's last words\n"
     assert not (tmp_path / "ros_log").exists() and not out.exists()
+
+
+def test_real_failed_replay_keeps_its_logs_beside_its_output(tmp_path):
+    """The same with the real graph (a process: ROS nodes, in a free domain): a bag of the
+    example's phase messages and clock only, marked complete, cannot be identified; the run
+    fails and its node logs are beside the output, none in the ROS log folder."""
+    from motoflex_ros.launcher.status import write_status
+    from motoflex_ros.record.mcap_bag import BagWriter, bag_info, read_messages
+    keep = [t for t in bag_info(EXAMPLE).topics if t.name.endswith("/phase") or
+            t.name == "/clock"]
+    with BagWriter(tmp_path / "bag") as bag:
+        for topic in keep:
+            bag.add_topic(topic.name, topic.type)
+        for message in read_messages(EXAMPLE, [t.name for t in keep]):
+            bag.write(message.topic, message.log_time_ns, message.data)
+    write_status(tmp_path / "bag", "complete")
+    out = tmp_path / "out" / "id.json"
+    env = {k: v for k, v in os.environ.items() if k != "ROS_DOMAIN_ID"}   # a free one
+    env["ROS_LOG_DIR"] = str(tmp_path / "ros_log")
+    run = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "replay",
+                          str(tmp_path / "bag"), "--identify", str(out)], env=env,
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
+    kept = tmp_path / "out" / "id_replay" / "log"
+    assert str(kept) in run.stderr
+    assert {"bag_replay.log", "identification.log"} <= {p.name for p in kept.iterdir()}
+    assert not out.exists()
+    assert not any((tmp_path / "ros_log").rglob("*.log"))
 
 
 # --- own cases: hostile files of every kind ---------------------------------------------------

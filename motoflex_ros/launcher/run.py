@@ -132,8 +132,9 @@ def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending)
     from motoflex_ros.launcher.monitor import Monitor
     from motoflex_ros.nodes.endpoints import RunEndpoints
     context = rclpy.Context()
-    rclpy.init(args=[], context=context, domain_id=graph.domain_id,
-               signal_handler_options=SignalHandlerOptions.NO)
+    # no log file of this process in ~/.ros/log (the nodes' logs are the run's, in its folder)
+    rclpy.init(args=["--ros-args", "--disable-external-lib-logs"], context=context,
+               domain_id=graph.domain_id, signal_handler_options=SignalHandlerOptions.NO)
     try:
         monitor = Monitor(context, [s.name for s in graph.specs], collect,
                           RunEndpoints(graph.endpoints_dir), graph.namespace)
