@@ -7,6 +7,7 @@ file being written, leaves no temporary file, and a run that was started still g
 'failed' status. The real full disk is a small tmpfs (mounting needs root: skipped without).
 """
 import errno
+import json
 import os
 import socket
 import stat
@@ -259,3 +260,27 @@ def test_export_refuses_a_fifo_in_place_of_a_matrix(capsys, tmp_path):
     assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
     assert "tube_K.mtx" in run.stderr and "FIFO" in run.stderr
     assert stat.S_ISFIFO(_mode(tmp_path / "tube_K.mtx"))
+
+
+def test_campaign_on_a_full_disk_fails_naming_the_bag(tmp_path):
+    """The whole graph on a 400 kB disk (a process: ROS nodes, in a free domain): the
+    recorder fills it; the run ends 'failed' in its status.json, and the one-line error (in
+    the status and on stderr) names the MCAP file being written, without a traceback."""
+    disk = tmp_path / "disk"
+    _mount(disk, "size=400k")
+    try:
+        env = {k: v for k, v in os.environ.items() if k != "ROS_DOMAIN_ID"}   # a free one
+        env["ROS_LOG_DIR"] = str(tmp_path / "ros_log")
+        run = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "campaign",
+                              "--component", "tube", "--out", str(disk / "run"),
+                              "--report", "none"], env=env, capture_output=True, text=True,
+                             timeout=600)
+        error = run.stderr.strip().splitlines()[-1]
+        assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr[-3000:]
+        assert error.startswith("motoflex campaign: error:"), error
+        assert str(disk / "run" / "run_0.mcap") in error and "disk is full" in error
+        status = json.loads((disk / "run" / "status.json").read_text())
+        assert status["status"] == "failed" and "run_0.mcap" in status["reason"]
+        assert not (disk / "run" / "identification.json").exists()
+    finally:
+        _unmount(disk)

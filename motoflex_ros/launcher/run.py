@@ -77,9 +77,10 @@ def _keep_logs(exc, logs, kept):
         return
     try:
         shutil.copytree(logs, kept, dirs_exist_ok=True)
-    except OSError:
-        return   # the message still carries each failed node's last log lines
-    exc.args = tuple(a.replace(str(logs), str(kept)) if isinstance(a, str) else a
+        where = str(kept)
+    except OSError:   # a full disk: the message still carries each failed node's last lines
+        where = f"{kept} (copied only in part)"
+    exc.args = tuple(a.replace(str(logs), where) if isinstance(a, str) else a
                      for a in exc.args)
 
 
