@@ -504,9 +504,17 @@ def test_own_hostile_files(tmp_path, capsys, rig, case):
 
 @pytest.mark.parametrize("kind", ["FIFO as the component file", "FIFO as the measured CSV",
                                   "/dev/zero as the component file",
-                                  "FIFO as a superelement matrix"])
+                                  "FIFO as a superelement matrix", "FIFO as a mesh file"])
 def test_inputs_that_would_block(tmp_path, rig, superelement, kind):
     """Read in a child: a FIFO or a device opened for reading would block or never end."""
+    if kind.endswith("mesh file"):
+        from motoflex_ros.structures.mesh_examples import write_bracket_component
+        path = write_bracket_component(tmp_path, size=0.05)
+        (tmp_path / "bracket.msh").unlink()
+        os.mkfifo(tmp_path / "bracket.msh")
+        refused_in_child(["components", "--component", path], path, "mesh.file",
+                         "bracket.msh", "FIFO")
+        return
     if kind.startswith("/dev/zero"):
         refused_in_child(["components", "--component", "/dev/zero"], "/dev/zero",
                          "character device")
