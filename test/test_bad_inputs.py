@@ -177,7 +177,7 @@ MORE_CASES = {
     "node_coordinate_1e300": Case(COMPONENTS + (ref(FRAME),), frame(
         ("steering_head: [0.6216", "steering_head: [1.0e300")), FRAME, "nodes.steering_head[0]"),
     "component_is_a_directory": Case(COMPONENTS + ("{dir.yaml}",), {"dir.yaml/x": "a: 1"},
-                                     "dir.yaml", "not found"),
+                                     "dir.yaml", "is a directory, not a regular file"),
     "protocol_duplicate_key": Case(IDENTIFY_TUBE, protocol(
         ("force_n: 100.0", "force_n: 100.0\n  force_n: 200.0")), PROTO, "static.force_n"),
     "protocol_top_level_list": Case(IDENTIFY_TUBE, {PROTO: "- 1\n- 2\n"}, PROTO, "top level"),

@@ -77,9 +77,10 @@ def _keep_logs(exc, logs, kept):
         return
     try:
         shutil.copytree(logs, kept, dirs_exist_ok=True)
-    except OSError:
-        return   # the message still carries each failed node's last log lines
-    exc.args = tuple(a.replace(str(logs), str(kept)) if isinstance(a, str) else a
+        where = str(kept)
+    except OSError:   # a full disk: the message still carries each failed node's last lines
+        where = f"{kept} (copied only in part)"
+    exc.args = tuple(a.replace(str(logs), where) if isinstance(a, str) else a
                      for a in exc.args)
 
 
@@ -135,8 +136,9 @@ def _monitor(graph, pacer, planned, collect, progress, ready_timeout, ending):
     from motoflex_ros.launcher.monitor import Monitor
     from motoflex_ros.nodes.endpoints import RunEndpoints
     context = rclpy.Context()
-    rclpy.init(args=[], context=context, domain_id=graph.domain_id,
-               signal_handler_options=SignalHandlerOptions.NO)
+    # no log file of this process in ~/.ros/log (the nodes' logs are the run's, in its folder)
+    rclpy.init(args=["--ros-args", "--disable-external-lib-logs"], context=context,
+               domain_id=graph.domain_id, signal_handler_options=SignalHandlerOptions.NO)
     try:
         monitor = Monitor(context, [s.name for s in graph.specs], collect,
                           RunEndpoints(graph.endpoints_dir), graph.namespace)

@@ -11,6 +11,7 @@ import math
 import sys
 from dataclasses import dataclass
 
+from motoflex_ros.config import shown
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.ros_args import wildcard_only_names
 
@@ -66,7 +67,7 @@ class Param:
             problem = "is not allowed"
         else:
             return converted
-        raise ParameterError(f"node '{node_name}': parameter '{self.name}' = {value!r} "
+        raise ParameterError(f"node '{node_name}': parameter '{self.name}' = {shown(value)} "
                              f"{problem} (expected {self.allowed()})")
 
 

@@ -22,6 +22,7 @@ the bag as /tf and /tf_static (tf2_msgs/msg/TFMessage: :mod:`motoflex_ros.record
 import sys
 import time
 
+from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.conversions import clock_ns_from_cdr, qos_dict
 from motoflex_ros.nodes.interfaces import RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.params import Param, ParameterError
@@ -169,12 +170,24 @@ class Recorder(RigNode):
             time.sleep(self.params["batch_period"])
 
     def close(self, reason):
-        """Finish the MCAP file and write metadata.yaml."""
-        for batcher in self.batchers:
-            batcher.flush()
-        self.writer.close()
-        self.get_logger().info(f"bag {self.writer.path} closed ({reason}): "
-                               f"{self.writer.message_count} messages")
+        """Finish the MCAP file and write metadata.yaml; a write that fails (a full disk) is
+        one error line naming the file, exit code 2 (the file is closed all the same)."""
+        problem = None
+        try:
+            for batcher in self.batchers:
+                batcher.flush()
+        except MotoflexError as exc:
+            problem = exc
+        try:
+            self.writer.close()
+        except MotoflexError as exc:
+            problem = problem or exc
+        if problem is None:
+            self.get_logger().info(f"bag {self.writer.path} closed ({reason}): "
+                                   f"{self.writer.message_count} messages")
+        else:
+            self.get_logger().error(f"bag {self.writer.path} not finished: {problem}")
+            self.exit_code = 2
         super().close(reason)
 
 

@@ -28,7 +28,6 @@ Times are the header stamps (the rig's simulated time; the bag's log times are t
 wall clock); ``sim_time`` is measured from the earliest stamp, which is 0 for a simulated run.
 """
 import functools
-import json
 import re
 from collections import defaultdict
 from pathlib import Path
@@ -37,10 +36,11 @@ import numpy as np
 import rerun as rr
 
 from motoflex_ros.bench.replay import recorded_samples, replayed_displacements, shipped_model
+from motoflex_ros.files import read_json
 from motoflex_ros.frames import BENCH_SPACING_M
 from motoflex_ros.progress import progress_bar
 from motoflex_ros.record import rerun_log as rl
-from motoflex_ros.record.mcap_bag import bag_info, read_messages
+from motoflex_ros.record.mcap_bag import BagError, bag_info, read_messages
 from motoflex_ros.record.rerun_bag_vehicle import (
     EIG_TOPIC,
     log_eig_file,
@@ -195,7 +195,10 @@ def _log_identification(rec, samples, t0, known, draw_axes):
 def _read_json(folder, *names):
     for name in names:
         if (folder / name).is_file():
-            return json.loads((folder / name).read_text(encoding="utf-8"))
+            try:
+                return read_json(folder / name)
+            except ValueError as exc:
+                raise BagError(f"{folder / name}: not a readable JSON file ({exc})") from None
     return None
 
 

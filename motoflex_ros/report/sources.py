@@ -13,6 +13,7 @@ import time
 from dataclasses import dataclass, field
 
 from motoflex_ros.cli.output import atomic_write_text, emit_json
+from motoflex_ros.files import read_json
 from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
 from motoflex_ros.progress import progress_bar
 
@@ -69,8 +70,8 @@ class RunData:
 
 def _read(path):
     try:
-        return json.loads(path.read_text(encoding="utf-8")), None
-    except (OSError, json.JSONDecodeError) as exc:
+        return read_json(path), None
+    except (OSError, ValueError) as exc:
         return None, f"{path.name} unreadable ({exc})"
 
 
