@@ -58,9 +58,8 @@ def campaign_measurements(setup, seed=0):
     readings = identifier.readings()
     result = None
     if set(MODEL_TESTS) <= set(readings):
-        result = identify_component(setup.name, readings, setup.modes, q0)
-    wrench = np.zeros((len(samples), 6))
-    wrench[:, 1] = [s.force for s in samples]
+        result = identify_component(setup.name, readings, setup.modes, q0, setup.carried)
+    wrench = np.array([s.wrench_vector for s in samples], float).reshape(-1, 6)
     return CampaignMeasurements(np.array([s.t for s in samples]), wrench,
                                 np.array([measured[s.index] for s in samples]),
                                 tuple(s.test for s in samples), result, q0,

@@ -13,7 +13,7 @@ import math
 import sys
 from pathlib import Path
 
-from motoflex_ros.cli.inputs import noise_argument, seed_argument
+from motoflex_ros.cli.inputs import carried_inertias, noise_argument, seed_argument
 from motoflex_ros.cli.output import (
     add_force_option,
     check_new_file,
@@ -97,10 +97,39 @@ def _table(results, stream=None):
     print_table(["component", "test", "l [m]", "beta [rad]", "b [m]", "k [N m/rad]",
                  "k 95 % interval", "f [Hz]"], rows, stream)
     _modal_table(results, stream)
+    _principal_table(results, stream)
     for name, comp in results.items():
         if comp.get("split_identifiable") is False:
             stream.write(f"warning: {name}: k_t, k_b not identifiable: "
                          f"{comp['split_problem']}\n")
+
+
+def _principal_table(results, stream):
+    """The principal hinges (beyond the paper) with the three directions' lambda and f; a note
+    per component where they are not identified."""
+    rows, notes = [], []
+    for name, comp in results.items():
+        p = comp.get("principal")
+        if not p:
+            continue
+        if not p["identified"]:
+            notes.append(f"note: {name}: principal hinges not identified: {p['problem']}\n")
+            continue
+        for i, h in enumerate(p["hinges"]):
+            rows.append([name, f"principal {i + 1}", f"{h['l']:.4f}", f"{h['beta']:.4f}",
+                         f"{h['b']:.4f}", _number(h["k"]), format_interval(h["ci"].get("k")),
+                         _number(p["f_hz"][i], ".4g")])
+        dropped = ", ".join(f"{f:.4g}" for f in p["f_hz"][len(p["hinges"]):]
+                            if f is not None and math.isfinite(f))
+        notes.append(f"{name}: principal directions lambda = "
+                     f"{', '.join(f'{v:.4g}' for v in p['lambda_s2'])} s^2; kept "
+                     f"{p['n_hinges']} (dropped f: {dropped or 'none'} Hz)\n")
+    if rows:
+        stream.write("\n")
+        print_table(["component", "hinge", "l [m]", "beta [rad]", "b [m]", "k [N m/rad]",
+                     "k 95 % interval", "f carried [Hz]"], rows, stream)
+    for note in notes:
+        stream.write(note)
 
 
 def _modal_table(results, stream):
@@ -196,12 +225,12 @@ def run(args):
     if args.measured:
         return run_measured(args)
     from motoflex_ros.bench.campaign import identify_components
-    components = args.component or list(DEFAULT_COMPONENTS)
     if args.out:
         check_new_file(args.out, args.force)
+    components, carried = carried_inertias(args.component or list(DEFAULT_COMPONENTS))
     with progress_bar(len(components), "bench identification", "component") as bar:
         runs = identify_components(components, args.protocol, args.noise, args.seed,
-                                   progress=lambda _name: bar.update(1))
+                                   progress=lambda _name: bar.update(1), carried=carried)
     results = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
     if args.out:
         write_results(args.out, results)
