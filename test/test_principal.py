@@ -189,7 +189,9 @@ def test_moment_tests_are_planned_with_their_unit_moments():
     for name in MOMENT_TESTS:
         np.testing.assert_allclose(by_name[name].wrench, unit_wrenches(q0)[name])
         assert by_name[name].kind == "static"
-        assert by_name[name].max_samples == by_name["static"].max_samples
+        hold = setup.protocol.moments.hold_time_s
+        assert by_name[name].max_samples == round((by_name["static"].ramp_time_s + hold)
+                                                  * by_name["static"].rate_hz) + 1
     assert by_name["moment_axial"].amplitude_n == setup.protocol.moments.axial_nm
     assert setup.plan.load_limit_n == 1.5 * max(t.amplitude_n for t in setup.plan.tests
                                                 if t.name not in MOMENT_TESTS)

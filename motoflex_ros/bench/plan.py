@@ -119,12 +119,19 @@ def _static(protocol, modes):
 
 
 def _moments(protocol, static, q0):
-    """The moment tests (the static test's ramp, hold and rate; unit moments along O-q0 and
-    its normal, :func:`motoflex_ros.identify.principal.unit_wrenches`)."""
+    """The moment tests (the static test's ramp and rate, the moments' hold; unit moments
+    along O-q0 and its normal, :func:`motoflex_ros.identify.principal.unit_wrenches`)."""
     units = unit_wrenches(q0)
-    amplitudes = (protocol.moments.axial_nm, protocol.moments.normal_nm)
+    m = protocol.moments
+    hold = protocol.static.hold_time_s if m.hold_time_s is None else m.hold_time_s
+    if round(hold * static.rate_hz) < 10:
+        raise protocol_error(protocol, "moments.hold_time_s",
+                             f"hold_time_s {hold:g} s gives fewer than 10 samples at "
+                             f"{static.rate_hz:g} Hz to read at the maximum")
+    n = round((static.ramp_time_s + hold) * static.rate_hz) + 1
+    amplitudes = (m.axial_nm, m.normal_nm)
     keys = ("moments.axial_nm", "moments.normal_nm")
-    return [TestPlan(name, "static", static.rate_hz, static.max_samples, amp,
+    return [TestPlan(name, "static", static.rate_hz, n, amp,
                      ramp_time_s=static.ramp_time_s, key=key,
                      wrench=tuple(float(v) for v in units[name]))
             for name, amp, key in zip(MOMENT_TESTS, amplitudes, keys)]

@@ -139,6 +139,8 @@ _MOMENTS = Field("mapping", required=False, default=None, fields={
     "axial_nm": number(*MOMENT_NM, help="moment along O-q0 [N m]"),
     "normal_nm": number(*MOMENT_NM, help="moment along the normal of O-q0 in the x-z plane "
                                          "[N m]"),
+    "hold_time_s": positive(MAX_TIME_S, required=False, default=None,
+                            help="hold [s] (default: static.hold_time_s)"),
 })
 PROTOCOL_SCHEMA = Field("mapping", fields={
     "description": Field("str", required=False, default=""),
@@ -219,10 +221,11 @@ class RoadLoadTest:
 class MomentTests:
     """The moment tests of the principal hinges (beyond the paper): moments [N m] at q0 along
     O-q0 (axial_nm) and along its normal in the x-z plane (normal_nm), with the static test's
-    ramp and hold."""
+    ramp and rate and a hold of hold_time_s [s] (None: the static test's)."""
 
     axial_nm: float
     normal_nm: float
+    hold_time_s: float = None
 
 
 @dataclass(frozen=True)
