@@ -11,11 +11,10 @@ import pytest
 from motoflex_ros.bench.actuator import LoadActuator
 from motoflex_ros.bench.campaign import measure_motion, only_tests, setup_campaign
 from motoflex_ros.bench.response import ComponentSimulator
-from motoflex_ros.cli.inputs import carried_inertias
 from motoflex_ros.config import resolve_config
 from motoflex_ros.identify.principal import PRINCIPAL_TESTS, identify_principal
 from motoflex_ros.study.lumped_accuracy import QUANTITIES, flexible_reference, mode_errors
-from motoflex_ros.study.variants import build_variant
+from motoflex_ros.study.variants import build_variant, carried_inertias
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep

@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 from motoflex_ros.bench.campaign import identify_components
-from motoflex_ros.cli.inputs import carried_inertias
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ModelError
 from motoflex_ros.structures.components import load_component
@@ -22,6 +21,7 @@ from motoflex_ros.study.lumped_accuracy import (
     accuracy_study,
     mode_errors,
 )
+from motoflex_ros.study.variants import carried_inertias
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.model import load_vehicle
 

@@ -22,11 +22,22 @@ Tests follow each other with a pause of ``PAUSE_S`` so that time keeps increasin
 import math
 from dataclasses import dataclass, fields
 
-__all__ = ["LoadSample", "LoadActuator", "test_forces", "PAUSE_S", "LATERAL_WRENCH"]
+__all__ = ["LoadSample", "LoadActuator", "test_forces", "PAUSE_S", "LATERAL_WRENCH",
+           "wrench_amplitude"]
 
 PAUSE_S = 0.1
 LATERAL_WRENCH = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0)
 """Unit wrench of the paper's tests: F_y at the loaded end."""
+
+
+def wrench_amplitude(unit, wrench):
+    """Amplitude a [N or N m] of a wrench (6,) along the unit wrench ``unit``: u . w (exactly
+    F_y for the lateral unit wrench).
+
+    >>> wrench_amplitude(LATERAL_WRENCH, (0.0, -12.5, 0.0, 0.0, 0.0, 0.0))
+    -12.5
+    """
+    return float(sum(u * w for u, w in zip(unit, wrench)))
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ import math
 import sys
 from pathlib import Path
 
-from motoflex_ros.cli.inputs import carried_inertias, noise_argument, seed_argument
+from motoflex_ros.cli.inputs import noise_argument, seed_argument
 from motoflex_ros.cli.output import (
     add_force_option,
     check_new_file,
@@ -225,6 +225,7 @@ def run(args):
     if args.measured:
         return run_measured(args)
     from motoflex_ros.bench.campaign import identify_components
+    from motoflex_ros.study.variants import carried_inertias
     if args.out:
         check_new_file(args.out, args.force)
     components, carried = carried_inertias(args.component or list(DEFAULT_COMPONENTS))

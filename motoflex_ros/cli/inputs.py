@@ -11,7 +11,7 @@ from motoflex_ros.limits import check_limit
 
 __all__ = ["COMPONENTS", "identification_results", "motorcycle_components",
            "add_study_inputs", "add_use_option", "component_roles", "study_speeds",
-           "noise_argument", "seed_argument", "carried_inertias"]
+           "noise_argument", "seed_argument"]
 
 COMPONENTS = MOTORCYCLE_COMPONENTS
 _USE = "command line"
@@ -27,29 +27,13 @@ def identification_results(path=None, components=COMPONENTS, seed=0, vehicle="to
         return load_results_file(Path(path))
     from motoflex_ros.bench.campaign import identify_components
     from motoflex_ros.cli.output import progress_bar
+    from motoflex_ros.study.variants import carried_inertias
     print("running the bench identification ...", file=sys.stderr)
     components, carried = carried_inertias(components, vehicle)
     with progress_bar(len(components), "bench identification", "component") as bar:
         runs = identify_components(components, seed=seed,
                                    progress=lambda _name: bar.update(1), carried=carried)
     return {name: run.identification.to_dict() for name, (_, run) in runs.items()}
-
-
-def carried_inertias(components, vehicle="touring"):
-    """(Components, {name: CarriedInertia}): ``components`` (names, files or structures
-    Components) loaded, and what the loaded end of each motorcycle component among them
-    carries in the vehicle file ``vehicle`` (the principal hinges' metric, taken from the
-    virtual rig's motorcycle)."""
-    from motoflex_ros.config import resolve_config
-    from motoflex_ros.structures.components import load_component
-    from motoflex_ros.study.variants import carried_by_component
-    from motoflex_ros.vehicle.model import load_vehicle
-    loaded = [load_component(c) if isinstance(c, (str, Path)) else c for c in components]
-    placed = {c.name: c for c in loaded if c.name in COMPONENTS}
-    if not placed:
-        return loaded, {}
-    return loaded, carried_by_component(load_vehicle(resolve_config("vehicles", vehicle)),
-                                        placed)
 
 
 def motorcycle_components(names=COMPONENTS, roles=None):

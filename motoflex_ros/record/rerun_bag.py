@@ -137,8 +137,9 @@ def _log_bench_load(rec, component, topics, t0, model, bench_offset):
     if model:
         rl.log_component_frame(rec, component, model[0].origin, bench_offset)
         phases = [m.data for _, m in topics.get("phase", [])]
+        torques = [vec(m.wrench.torque) for _, m in samples]
         _log_replayed_structure(rec, component, model, times, recorded_samples(
-            phases, [(t, f[1]) for (t, _), f in zip(samples, forces)]))
+            phases, [(t, (*f, *m)) for (t, _), f, m in zip(samples, forces, torques)]))
 
 
 def _log_replayed_structure(rec, component, model, times, loads):

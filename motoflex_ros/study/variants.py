@@ -27,8 +27,8 @@ from motoflex_ros.vehicle.superelement import superelement_of
 from motoflex_ros.vehicle.variants import FLEX_CHOICES, FLEXIBLE, flexible_vehicle
 
 __all__ = ["build_variant", "flex_joints", "check_split_identifiable", "check_principal",
-           "state_of_the_art_stiffness", "carried_of", "carried_by_component", "SOTA_LOAD",
-           "GAMMA", "SERIES_VARIANTS"]
+           "state_of_the_art_stiffness", "carried_of", "carried_by_component",
+           "carried_inertias", "SOTA_LOAD", "GAMMA", "SERIES_VARIANTS"]
 
 GAMMA = GAMMA_S
 """Proportionality constant of the static models' damping c = gamma k [s] (Sect. 5.2.4)."""
@@ -112,6 +112,23 @@ def carried_by_component(vehicle, components):
     structures Component}) placed in ``vehicle``."""
     return {name: carried_of(vehicle, name, lumped.site_of(component))
             for name, component in components.items() if name in lumped.CARRIED}
+
+
+def carried_inertias(components, vehicle="touring"):
+    """(Components, {name: CarriedInertia}): ``components`` (names, files or structures
+    Components) loaded, and what the loaded end of each motorcycle component among them
+    carries in the vehicle file ``vehicle`` (a shipped name or a path): the principal hinges'
+    metric in the virtual rig."""
+    from motoflex_ros.config import resolve_config
+    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.vehicle.model import load_vehicle
+    loaded = [component if hasattr(component, "clamped_reduced") else load_component(component)
+              for component in components]
+    placed = {c.name: c for c in loaded if c.name in lumped.CARRIED}
+    if not placed:
+        return loaded, {}
+    return loaded, carried_by_component(load_vehicle(resolve_config("vehicles", vehicle)),
+                                        placed)
 
 
 def _series_hinges(variant, component, identified):
