@@ -81,6 +81,9 @@ MIN_LAMBDA_SHARE = 1e-9
 PSD_TOLERANCE = 1e-9
 """C is a compliance when its smallest eigenvalue is at least -1e-9 of its largest (zero is a
 rigid direction, e.g. two hinges only; a negative one beyond round-off is noise)."""
+MAX_LOAD_CONDITION = 1e6
+"""Largest condition number of the three tests' unit loads (F_y, M_x, M_z) (N and N m mixed:
+the shipped tests' is 1)."""
 OUT_OF_PLANE = (1, 3, 5)
 """Indices of (u_y, theta_x, theta_z) in a pose (u_x, u_y, u_z, theta_x, theta_y, theta_z)."""
 
@@ -142,6 +145,16 @@ class CarriedInertia:
         mass[:3, :3] = self.mass * np.eye(3)
         mass[3:, 3:] = np.asarray(self.inertia, float)
         return jac.T @ mass @ jac
+
+    def bench_key(self):
+        """The bench file's ``carried`` mapping of this inertia
+        (:mod:`motoflex_ros.identify.bench_file`)."""
+        i = np.asarray(self.inertia, float)
+        return {"mass_kg": float(self.mass), "com_m": [float(v) for v in self.com],
+                "inertia_kg_m2": {"xx": float(i[0, 0]), "yy": float(i[1, 1]),
+                                  "zz": float(i[2, 2]), "xy": float(i[0, 1]),
+                                  "xz": float(i[0, 2]), "yz": float(i[1, 2])},
+                "passes_moment": bool(self.passes_moment)}
 
     def to_dict(self):
         """Plain values (mass_kg, com_m, inertia_kg_m2, passes_moment, source)."""
@@ -270,11 +283,10 @@ def not_identified(problem, **kw):
     return PrincipalIdentification(False, problem, **kw)
 
 
-def _measured(readings, q0):
+def _measured(readings, q0, units):
     """The measured x (9,): (u_y, theta_x, theta_z) of the three tests, its covariance, the
     amplitudes and the unit wrenches."""
     idx = list(OUT_OF_PLANE)
-    units = unit_wrenches(q0)
     x = np.concatenate([np.asarray(readings[t].pose, float)[idx] for t in PRINCIPAL_TESTS])
     cov = np.zeros((9, 9))
     for j, t in enumerate(PRINCIPAL_TESTS):
@@ -284,9 +296,11 @@ def _measured(readings, q0):
     return x, cov, amplitudes, np.array([units[t] for t in PRINCIPAL_TESTS])
 
 
-def identify_principal(readings, q0, carried):
+def identify_principal(readings, q0, carried, wrenches=None):
     """PrincipalIdentification from the static and moment readings (by test name) and the
-    CarriedInertia (None: not identified, reason given).
+    CarriedInertia (None: not identified, reason given). ``wrenches``: {test: the unit wrench
+    (6,) its amplitude multiplies} (default :func:`unit_wrenches`: a measured bench gives the
+    loads it measured; any three whose (F_y, M_x, M_z) parts are independent will do).
 
     Values by the module docstring; 95 % intervals by linear propagation of the three hold
     means' covariances (:mod:`motoflex_ros.identify.uncertainty`). Not identified (with the
@@ -303,7 +317,13 @@ def identify_principal(readings, q0, carried):
         return not_identified("no carried inertia given (the vehicle file's bodies, or the "
                               "bench file's 'carried' key): the hinges need its metric")
     q0 = np.asarray(q0, float)
-    x, cov, amplitudes, wrenches = _measured(readings, q0)
+    x, cov, amplitudes, wrenches = _measured(readings, q0, {**unit_wrenches(q0),
+                                                            **(wrenches or {})})
+    out_of_plane = wrenches[:, list(OUT_OF_PLANE)]
+    if np.linalg.cond(out_of_plane) > MAX_LOAD_CONDITION:
+        return not_identified(f"the three tests' loads (F_y, M_x, M_z) are not independent "
+                              f"(condition number {np.linalg.cond(out_of_plane):.3g}): C cannot "
+                              "be read from them")
     g = carried.metric(q0)
 
     def compliance(v):

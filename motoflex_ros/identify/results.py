@@ -70,7 +70,8 @@ def results_source(identified):
 @dataclass(frozen=True)
 class ComponentIdentification:
     """All results of one component: static, torsion, bending models, k_t, k_b, the sweep,
-    other harmonic tests and the modal data (eigenvalue and free decay)."""
+    other harmonic tests, the modal data (eigenvalue and free decay) and the principal hinges
+    (a PrincipalIdentification, identified or not)."""
 
     name: str
     static: AxisModel
@@ -80,7 +81,7 @@ class ComponentIdentification:
     sweep: tuple
     modal: dict
     others: dict
-    principal: object = None
+    principal: object
 
     @property
     def split_identifiable(self):
