@@ -202,8 +202,8 @@ def _read_json(folder, *names):
 
 
 def _log_identified_axes(rec, identify, sim_time_s, log_values):
-    """Axes (static, torsion, bending, sweep) and (``log_values``) values of identify-format
-    results."""
+    """Axes (static, torsion, bending, the principal hinges, sweep) and (``log_values``)
+    values of identify-format results."""
     for component, result in identify.items():
         model = _model(component)
         if not isinstance(result, dict) or model is None:
@@ -215,6 +215,12 @@ def _log_identified_axes(rec, identify, sim_time_s, log_values):
                 rl.log_axis(rec, component, test, values["l"], values["beta"], q0)
                 if log_values:
                     rl.log_identification(rec, component, test, values, sim_time_s)
+        principal = result.get("principal") or {}
+        hinges = principal.get("hinges") or [] if principal.get("identified") else []
+        for i, hinge in enumerate(hinges):
+            rl.log_axis(rec, component, f"principal_{i + 1}", hinge["l"], hinge["beta"], q0)
+            if log_values:
+                rl.log_identification(rec, component, f"principal_{i + 1}", hinge, sim_time_s)
         sweep = result.get("sweep") or []
         if sweep:
             rl.log_sweep_axes(rec, component, [s["f_hz"] for s in sweep],
