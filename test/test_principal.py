@@ -218,3 +218,29 @@ def test_moment_beyond_the_linear_range_names_the_key(tmp_path):
     setup = setup_campaign("front_assembly")
     with pytest.raises(ProtocolError, match=r"p\.yaml: key 'moments\.normal_nm'.*N m turns"):
         plan_campaign(load_protocol(str(path)), setup.reduced, setup.modes)
+
+
+def test_report_lists_the_principal_hinges_with_their_json_paths():
+    """Issue 22: the report's identification table lists each identified hinge, its cells
+    pointing at principal/hinges/<i> of the identification file."""
+    from motoflex_ros.cli.output import to_jsonable
+    from motoflex_ros.report.tables import identification_table
+    vs = [hinge_vector(l, beta) for l, beta, _ in TWO_HINGES]
+    c = sum(hinge_compliance(k, l, beta, Q0) for l, beta, k in TWO_HINGES)
+    g = metric_making_orthogonal([vs[0], vs[1], np.cross(vs[0], vs[1])], [3.0, 1.0, 2.0])
+    principal = identify_principal(readings_of(c, cov=1e-16), Q0, FixedMetric(g)).to_dict()
+    model = {"l": 0.1, "beta": 1.0, "b": 0.05, "k": 1e4, "c": 10.0, "ci": {"k": [9e3, 1.1e4]}}
+    identify = to_jsonable({name: {"static": model, "torsion": model, "bending": model,
+                                   "principal": principal if name == "swingarm" else
+                                   {"identified": False, "problem": "none", "hinges": []}}
+                            for name in ("frame", "front_assembly", "swingarm")})
+    table = identification_table(identify)
+    labels = [(row[0].text, row[1].text) for row in table.rows]
+    assert labels.count(("swingarm", "principal 1")) == labels.count(
+        ("swingarm", "principal 2")) == 1
+    assert not any(c == "frame" and t.startswith("principal") for c, t in labels)
+    cells = {cell.path: cell for row in table.rows for cell in row if cell.path}
+    for i, (_, beta, k) in enumerate(TWO_HINGES):
+        assert cells[f"swingarm/principal/hinges/{i}/k"].value == pytest.approx(k, rel=1e-9)
+        assert cells[f"swingarm/principal/hinges/{i}/beta"].value == pytest.approx(beta)
+        assert cells[f"swingarm/principal/hinges/{i}/ci/k/0"].value < k
