@@ -244,3 +244,29 @@ def test_report_lists_the_principal_hinges_with_their_json_paths():
         assert cells[f"swingarm/principal/hinges/{i}/k"].value == pytest.approx(k, rel=1e-9)
         assert cells[f"swingarm/principal/hinges/{i}/beta"].value == pytest.approx(beta)
         assert cells[f"swingarm/principal/hinges/{i}/ci/k/0"].value < k
+
+
+def test_principal_results_round_trip_through_diagnostic_key_values():
+    """Issue 22: the identification node publishes the principal hinges as one
+    DiagnosticStatus of KeyValues (WARN with the reason when not identified); read back they
+    are the identification's numbers exactly."""
+    pytest.importorskip("rclpy")
+    from diagnostic_msgs.msg import DiagnosticStatus
+
+    from motoflex_ros.cli.output import to_jsonable
+    from motoflex_ros.nodes.conversions import identification_statuses, results_from_statuses
+    vs = [hinge_vector(l, beta) for l, beta, _ in TWO_HINGES]
+    c = sum(hinge_compliance(k, l, beta, Q0) for l, beta, k in TWO_HINGES)
+    g = metric_making_orthogonal([vs[0], vs[1], np.cross(vs[0], vs[1])], [3.0, 1.0, 2.0])
+    good = to_jsonable(identify_principal(readings_of(c, cov=1e-16), Q0,
+                                          FixedMetric(g)).to_dict())
+    missing = to_jsonable(identify_principal({}, Q0, None).to_dict())
+    for principal in (good, missing):
+        statuses = identification_statuses("swingarm", {"principal": principal})
+        status = next(s for s in statuses if s.name == "swingarm/principal")
+        back = results_from_statuses(statuses)["swingarm"]["principal"]
+        assert back == principal
+        if principal is missing:
+            assert status.level == DiagnosticStatus.WARN and "moment_axial" in status.message
+        else:
+            assert status.level == DiagnosticStatus.OK
