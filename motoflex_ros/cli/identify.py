@@ -1,9 +1,12 @@
 """``motoflex identify``: the bench campaign offline (no ROS), per component.
 
 Static test, harmonic tests at the first torsion and bending frequencies, the sweep and the
-modal test (Passigato et al. 2023, Sect. 4.2); prints a table or, with --json, the results
-{component: {"static", "torsion", "bending", "k_t", "k_b", "sweep", ...}} (angles rad, lengths
-m, stiffness N m/rad), optionally writes them to a YAML/JSON file and the Figs. 5-7 plots.
+modal test (Passigato et al. 2023, Sect. 4.2), and beyond the paper the two moment tests of
+the principal hinges (:mod:`motoflex_ros.identify.principal`; their metric from the touring
+motorcycle's bodies each loaded end carries); prints a table or, with --json, the results
+{component: {"static", "torsion", "bending", "k_t", "k_b", "sweep", "principal", ...}} (angles
+rad, lengths m, stiffness N m/rad), optionally writes them to a YAML/JSON file and the Figs.
+5-7 plots.
 
 ``--measured FILE --bench BENCH.yaml``: the same identification of a physical rig's
 measurements (a CSV file or a rosbag2 folder), without a finite-element model
