@@ -209,7 +209,7 @@ def _measured_summary(measured, stream=None):
              f"{e['amplitude_n']:.4g}", "yes" if e["used"] else "no"]
             for e in measured["tests"]]
     stream.write("\n")
-    print_table(["test", "kind", "model", "t start [s]", "t end [s]", "f [Hz]", "load [N]",
+    print_table(["test", "kind", "model", "t start [s]", "t end [s]", "f [Hz]", "load [N|N m]",
                  "used"], rows, stream)
     c = measured["counts"]
     stream.write(f"\n{measured['frames']} frames of {measured['markers']} markers; dropped: "
