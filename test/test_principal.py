@@ -270,3 +270,34 @@ def test_principal_results_round_trip_through_diagnostic_key_values():
             assert status.level == DiagnosticStatus.WARN and "moment_axial" in status.message
         else:
             assert status.level == DiagnosticStatus.OK
+
+
+def test_tube_end_compliance_is_the_timoshenko_cantilever(tmp_path):
+    """Closed form through the bench: the straight tube pitched 30 deg in x-z, the three tests
+    noise-free. In the tube's own axes (u_y; theta along the tube e0; theta along n) the
+    cantilever's compliance is [[L^3/3EI + L/kGA, 0, L^2/2EI], [0, L/GJ, 0], [L^2/2EI, 0,
+    L/EI]] (J = 2 I the polar moment; F_y turns the tip about n = e0 x e_y)."""
+    from test_identify_tube import MATERIAL, TUBE, timoshenko_cantilever, tube_file
+    data = load_yaml(config_path("protocols", "default"))
+    data["moments"] = {"axial_nm": 5.0, "normal_nm": 5.0}
+    protocol = tmp_path / "with_moments.yaml"
+    protocol.write_text(yaml.safe_dump(data))
+    setup = with_sensor(setup_campaign(tube_file(tmp_path, 30.0), str(protocol)), noise_m=0.0,
+                        resolution_m=0.0)
+    run = run_campaign(only_tests(setup, PRINCIPAL_TESTS))
+    q0 = setup.reduced.q0
+    result = identify_principal(run.readings, q0, FixedMetric(np.eye(3)))
+    length, d = TUBE["length"], TUBE["outer_diameter"]
+    d_in = d - 2 * TUBE["wall_thickness"]
+    ei = MATERIAL["E"] * np.pi / 64 * (d**4 - d_in**4)
+    gj = MATERIAL["G"] * np.pi / 32 * (d**4 - d_in**4)
+    force = 1.0
+    l_ref, b_ref, _, _ = timoshenko_cantilever(force)
+    c_yy = b_ref * force * length**2 / (2 * ei)      # y = b theta (the Timoshenko deflection)
+    local = np.array([[c_yy, 0.0, length**2 / (2 * ei)], [0.0, length / gj, 0.0],
+                      [length**2 / (2 * ei), 0.0, length / ei]])
+    e0, n = (unit_wrenches(q0)[t][3:] for t in MOMENT_TESTS)
+    rotate = np.array([[1.0, 0.0, 0.0], [0.0, e0[0], e0[2]], [0.0, n[0], n[2]]])
+    measured = rotate @ result.compliance @ rotate.T
+    # measured 4e-7 of the largest entry (the FE beam is the Timoshenko cantilever)
+    np.testing.assert_allclose(measured, local, rtol=1e-5, atol=1e-5 * np.abs(local).max())
