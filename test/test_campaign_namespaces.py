@@ -26,6 +26,7 @@ pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
 def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
     from motoflex_ros.bench.campaign import identify_components
+    from motoflex_ros.study.variants import carried_inertias
     with DomainLock() as free:
         domain = free.domain_id
     # hold the id shared (as a namespaced run does) so that no root-namespace run takes it
@@ -38,8 +39,10 @@ def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
              "none"], env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
             preexec_fn=interruptible) for ns in ("rig_a", "rig_b")}
         outputs = {ns: proc.communicate(timeout=900) for ns, proc in runs.items()}
+    components, carried = carried_inertias([COMPONENT])   # as the graph's (issue 22)
     offline = {n: to_jsonable(r.identification.to_dict())
-               for n, (_, r) in identify_components([COMPONENT], seed=0).items()}
+               for n, (_, r) in identify_components(components, seed=0,
+                                                    carried=carried).items()}
     for ns, proc in runs.items():
         _, err = outputs[ns]
         assert proc.returncode == 0, err

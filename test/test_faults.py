@@ -340,6 +340,7 @@ def test_two_runs_in_one_domain(tmp_path):
 
     from motoflex_ros.bench.campaign import identify_components
     from motoflex_ros.cli.output import to_jsonable
+    from motoflex_ros.study.variants import carried_inertias
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()
     first = Run(tmp_path / "a").running()
@@ -356,8 +357,10 @@ def test_two_runs_in_one_domain(tmp_path):
         assert "foreign publisher on " in err, err
         assert not (first.bag / "identification.json").exists()
     else:
+        components, carried = carried_inertias([COMPONENT])
         offline = {n: to_jsonable(r.identification.to_dict())
-                   for n, (_, r) in identify_components([COMPONENT], seed=0).items()}
+                   for n, (_, r) in identify_components(components, seed=0,
+                                                        carried=carried).items()}
         _assert_same(json.loads((first.bag / "identification.json").read_text()), offline)
     assert wait_gone(str(tmp_path), 5.0) == []
 

@@ -90,8 +90,11 @@ def test_nodes_identification_statuses_roundtrip():
 
     from motoflex_ros.bench.campaign import identify_components
     from motoflex_ros.cli.output import to_jsonable
-    runs = identify_components(["swingarm"], seed=0)
+    from motoflex_ros.study.variants import carried_inertias
+    components, carried = carried_inertias(["swingarm"])   # with the principal hinges
+    runs = identify_components(components, seed=0, carried=carried)
     result = to_jsonable(runs["swingarm"][1].identification.to_dict())
+    assert result["principal"]["identified"]
     array = DiagnosticArray(status=conversions.identification_statuses("swingarm", result))
     wire = deserialize_message(serialize_message(array), DiagnosticArray)
     names = [s.name for s in wire.status]

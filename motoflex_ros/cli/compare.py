@@ -1,7 +1,8 @@
 """``motoflex compare A.json B.json``: two identifications side by side (issue 17).
 
 To hold a virtual bench against a real one: l, beta, b, k, c, J of the static, torsion and
-bending models and k_t, k_b (eq. 12) of both files (``motoflex identify --out``, with or
+bending models, k_t, k_b (eq. 12) and l, beta, b, k, c of the principal hinges (beyond the
+paper, in their order) of both files (``motoflex identify --out``, with or
 without ``--measured``), with their difference in units of the combined uncertainty,
 z = (A - B) / sqrt(s_A^2 + s_B^2), s = half the 95 % interval / 1.96 (the intervals are
 value +/- 1.96 s, :mod:`motoflex_ros.identify.uncertainty`). |z| > 2: the two differ beyond
@@ -83,6 +84,11 @@ def compare_results(data_a, data_b, path_a="A", path_b="B"):
                     rows.append(_row(label, model, key, ea, eb))
         for key in ("k_t", "k_b"):
             rows.append(_row(label, "eq. 12", key, ra, rb))
+        ha, hb = _principal_hinges(ra), _principal_hinges(rb)
+        for i in range(max(len(ha), len(hb))):
+            ea, eb = (ha[i] if i < len(ha) else None), (hb[i] if i < len(hb) else None)
+            for key in QUANTITIES[:5]:
+                rows.append(_row(label, f"principal {i + 1}", key, ea, eb))
     return rows
 
 
@@ -115,6 +121,14 @@ def _check_entry(entry, keys, path, where):
                                  not all(map(_number_or_null, pair))):
             raise ConfigError(path, f"{where}.ci.{key}", "expected [low, high]: two numbers "
                                                          "(or null)")
+
+
+def _principal_hinges(result):
+    """The principal hinges of a result (issue 22; [] when not identified or absent)."""
+    principal = result.get("principal")
+    if not isinstance(principal, dict) or not principal.get("identified"):
+        return []
+    return list(principal.get("hinges") or [])
 
 
 def _load(path):

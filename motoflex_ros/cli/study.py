@@ -12,7 +12,11 @@ ANOVA main-effect shares and Pearson coefficients (eqs. 16-17). --json prints {"
 "indices": {"weave_low": [...], ...}, "anova_main_share", "pearson"} (null where an index does
 not vary). --plot DIR writes the Fig. 10 bar chart and the runs' weave/wobble real parts.
 Without --identified the bench identification runs first (motoflex identify); --nominal table2
-takes k_t, k_b from the paper's Table 2 instead (axes still from the identification).
+takes k_t, k_b from the paper's Table 2 instead (axes still from the identification);
+--nominal principal runs the factorial on the principal hinges' stiffnesses (the principal
+variant; each factor named after the paper's one its axis stands for, :func:`motoflex_ros.study.
+motorcycle.principal_study`), with --model flexible its Pearson coefficients beside the flexible
+study's.
 --model flexible runs the same design on the flexible motorcycle (each factor scales the modal
 stiffness of its component's first torsion or bending mode of the clamped model,
 :mod:`motoflex_ros.study.flexible_sensitivity`; default 5 km/h steps) and the lumped study on
@@ -60,8 +64,11 @@ def _register_sensitivity(sub):
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on Dask: a scheduler address (tcp://host:8786) or 'local'")
     add_study_inputs(p)
-    p.add_argument("--nominal", choices=("identified", "table2"), default="identified",
-                   help="nominal k_t, k_b: identified (default) or the paper's Table 2")
+    p.add_argument("--nominal", choices=("identified", "table2", "principal"),
+                   default="identified",
+                   help="nominal k_t, k_b: identified (default) or the paper's Table 2; "
+                        "principal: the factorial on the principal hinges' stiffnesses (the "
+                        "principal variant, beyond the paper)")
     p.add_argument("--step-kmh", type=float, default=None,
                    help="speed step [km/h] (default 1; 5 with --model flexible)")
     p.add_argument("--model", choices=("lumped", "flexible"), default="lumped",
@@ -141,12 +148,17 @@ def _plots(result, run_outputs, speeds, directory):
 
 def agreement(lumped, flexible, negligible=0.05):
     """{index: {factor: {"lumped", "flexible", "difference", "verdict"}}}: Pearson coefficients
-    of the lumped and the flexible study side by side; verdict 'same sign', 'opposite' or
-    'negligible' (both below ``negligible`` in size)."""
+    of the lumped and the flexible study side by side; verdict 'same sign', 'opposite',
+    'negligible' (both below ``negligible`` in size) or 'no such factor' (the lumped study has
+    none of that name: a principal variant without that hinge; lumped and difference None)."""
     out = {}
     for index, row in flexible.pearson.items():
         out[index] = {}
         for factor, rho_f in row.items():
+            if factor not in lumped.pearson[index]:
+                out[index][factor] = {"lumped": None, "flexible": float(rho_f),
+                                      "difference": None, "verdict": "no such factor"}
+                continue
             rho_l = lumped.pearson[index][factor]
             if max(abs(rho_l), abs(rho_f)) < negligible:
                 verdict = "negligible"
@@ -155,6 +167,10 @@ def agreement(lumped, flexible, negligible=0.05):
             out[index][factor] = {"lumped": float(rho_l), "flexible": float(rho_f),
                                   "difference": float(rho_f - rho_l), "verdict": verdict}
     return out
+
+
+def _signed(value):
+    return "n/a" if value is None else f"{value:+.3f}"
 
 
 def _flexible_output(args, result, lumped, study_run, speeds):
@@ -171,10 +187,11 @@ def _flexible_output(args, result, lumped, study_run, speeds):
         return 0
     sys.stdout.write(MODAL_STIFFNESS + "\n\n")
     _print_tables(result, study_run.seconds, sys.stdout, unit="scale of the modal stiffness")
-    sys.stdout.write("\nAgreement with the lumped (decomposed) study on the same speeds\n")
+    variant = "principal" if args.nominal == "principal" else "decomposed"
+    sys.stdout.write(f"\nAgreement with the lumped ({variant}) study on the same speeds\n")
     print_table(["index", "factor", "lumped rho", "flexible rho", "difference", "verdict"],
-                [[index, factor, f"{v['lumped']:+.3f}", f"{v['flexible']:+.3f}",
-                  f"{v['difference']:+.3f}", v["verdict"]]
+                [[index, factor, _signed(v["lumped"]), _signed(v["flexible"]),
+                  _signed(v["difference"]), v["verdict"]]
                  for index, row in table.items() for factor, v in row.items()], sys.stdout)
     return 0
 
@@ -182,7 +199,7 @@ def _flexible_output(args, result, lumped, study_run, speeds):
 def run_sensitivity_verb(args):
     """``motoflex study sensitivity``; returns the exit code."""
     from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL, full_factorial
-    from motoflex_ros.study.motorcycle import decomposed_study
+    from motoflex_ros.study.motorcycle import decomposed_study, principal_study
     from motoflex_ros.study.sensitivity import run_sensitivity
     from motoflex_ros.vehicle.model import load_vehicle
 
@@ -193,10 +210,12 @@ def run_sensitivity_verb(args):
     speeds = study_speeds(step, 10.0)
     vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
     components = motorcycle_components(_COMPONENTS, component_roles(args.use))
-    identified = identification_results(args.identified, list(components.values()))
+    identified = identification_results(args.identified, list(components.values()),
+                                        vehicle=args.vehicle)
     if args.nominal == "table2":
         identified = _with_table2(identified)
-    setup = decomposed_study(vehicle, components, identified, speeds)
+    lumped_study = principal_study if args.nominal == "principal" else decomposed_study
+    setup = lumped_study(vehicle, components, identified, speeds)
     try:
         result, study_run = run_sensitivity(setup.study, setup.nominal, speeds, args.levels,
                                             args.rel_range, args.scheduler, progress=True,

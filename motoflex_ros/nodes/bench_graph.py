@@ -39,12 +39,18 @@ def frame_id(component):
 
 
 def campaign_setups(params):
-    """{component: CampaignSetup} from the bench parameters (the same call as offline)."""
+    """{component: CampaignSetup} from the bench parameters (the same calls as offline
+    ``motoflex identify``: the principal hinges' carried inertia from the vehicle file)."""
+    from dataclasses import replace
+
     from motoflex_ros.bench.campaign import checked_noise, setup_campaign
+    from motoflex_ros.study.variants import carried_inertias
     noise = None if params["noise"] == -1.0 else checked_noise(params["noise"], "ROS parameters",
                                                                "noise")
     protocol = params["protocol"] or None
-    setups = [setup_campaign(c, protocol, noise) for c in params["components"]]
+    components, carried = carried_inertias(params["components"])
+    setups = [setup_campaign(c, protocol, noise) for c in components]
+    setups = [replace(s, carried=carried.get(s.name)) for s in setups]
     # keyed by the component's own name (a YAML file's too: its topics are /bench/<name>/...)
     return {s.name: s for s in setups}
 

@@ -88,13 +88,13 @@ class ComponentSimulatorNode(RigNode):
         setup = self.setups[component]
         q0 = np.asarray(setup.reduced.q0, float)
         offsets = np.asarray(setup.protocol.sensor.markers, float)
-        checked = BenchInputs(component, setup.plan.load_limit_n, self.get_namespace())
+        checked = BenchInputs.of_plan(component, setup.plan, self.get_namespace())
 
         def handle(phase, inputs):
             if "load" not in inputs:
                 return
-            ns, force = checked.load(inputs["load"])
-            sample, _ = sample_from_phase(phase, force)
+            ns, load = checked.wrench(inputs["load"])
+            sample, _ = sample_from_phase(phase, load)
             motion = self.sims[component].step(sample)
             markers = marker_positions(q0 + motion[:3], rotation_from_vector(motion[3:]), q0,
                                        offsets)

@@ -66,8 +66,8 @@ class DisplacementSensorNode(RigNode):
     def _handler(self, component):
         sensor = self.sensors[component]
         frame = frame_id(component)
-        checked = BenchInputs(component, self.setups[component].plan.load_limit_n,
-                              self.get_namespace())
+        checked = BenchInputs.of_plan(component, self.setups[component].plan,
+                                      self.get_namespace())
 
         def handle(phase, inputs):
             if "true" not in inputs:

@@ -165,7 +165,7 @@ class IdentificationNode(RigNode):
         self.fitters = {c: MarkerSensor(s.protocol.sensor, s.reduced.q0)
                         for c, s in self.setups.items()}
         self.count = dict.fromkeys(self.setups, 0)
-        self.checked = {c: BenchInputs(c, s.plan.load_limit_n, self.get_namespace())
+        self.checked = {c: BenchInputs.of_plan(c, s.plan, self.get_namespace())
                         for c, s in self.setups.items()}
         self.results = {}
         self.unacked = {}
@@ -188,8 +188,8 @@ class IdentificationNode(RigNode):
         checked = self.checked[component]
 
         def handle(phase, inputs):
-            ns, force = checked.load(inputs["load"]) if "load" in inputs else (None, 0.0)
-            sample, end_ns = sample_from_phase(phase, force)
+            ns, load = checked.wrench(inputs["load"]) if "load" in inputs else (None, 0.0)
+            sample, end_ns = sample_from_phase(phase, load)
             if sample is not None:
                 identifier.add_load(sample)
             settled = self._measurements(component, inputs["measured"])
@@ -233,7 +233,7 @@ class IdentificationNode(RigNode):
         from motoflex_ros.identify.results import identify_component
         setup = self.setups[component]
         result = identify_component(component, self.identifiers[component].readings(),
-                                    setup.modes, setup.reduced.q0)
+                                    setup.modes, setup.reduced.q0, setup.carried)
         self.results[component] = result
         msg = DiagnosticArray(status=identification_statuses(component, result.to_dict()))
         msg.header.stamp = time_msg(end_ns)

@@ -158,7 +158,8 @@ class LoadActuatorNode(RigNode):
 
         def publish():
             self.phase_pubs[component].publish(phase_cdr(sample))  # CDR bytes, no message objects
-            self.load_pubs[component].publish(wrench_cdr(ns, frame_id(component), sample.force))
+            self.load_pubs[component].publish(wrench_cdr(ns, frame_id(component),
+                                                         sample.wrench_vector))
             if finished is not None:
                 self._publish_progress(component, finished)
         return publish

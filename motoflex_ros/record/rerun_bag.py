@@ -136,8 +136,9 @@ def _log_bench_load(rec, component, topics, t0, model, bench_offset):
     if model:
         rl.log_component_frame(rec, component, model[0].origin, bench_offset)
         phases = [m.data for _, m in topics.get("phase", [])]
+        torques = [vec(m.wrench.torque) for _, m in samples]
         _log_replayed_structure(rec, component, model, times, recorded_samples(
-            phases, [(t, f[1]) for (t, _), f in zip(samples, forces)]))
+            phases, [(t, (*f, *m)) for (t, _), f, m in zip(samples, forces, torques)]))
 
 
 def _log_replayed_structure(rec, component, model, times, loads):
@@ -203,8 +204,8 @@ def _read_json(folder, *names):
 
 
 def _log_identified_axes(rec, identify, sim_time_s, log_values):
-    """Axes (static, torsion, bending, sweep) and (``log_values``) values of identify-format
-    results."""
+    """Axes (static, torsion, bending, the principal hinges, sweep) and (``log_values``)
+    values of identify-format results."""
     for component, result in identify.items():
         model = _model(component)
         if not isinstance(result, dict) or model is None:
@@ -216,6 +217,12 @@ def _log_identified_axes(rec, identify, sim_time_s, log_values):
                 rl.log_axis(rec, component, test, values["l"], values["beta"], q0)
                 if log_values:
                     rl.log_identification(rec, component, test, values, sim_time_s)
+        principal = result.get("principal") or {}
+        hinges = principal.get("hinges") or [] if principal.get("identified") else []
+        for i, hinge in enumerate(hinges):
+            rl.log_axis(rec, component, f"principal_{i + 1}", hinge["l"], hinge["beta"], q0)
+            if log_values:
+                rl.log_identification(rec, component, f"principal_{i + 1}", hinge, sim_time_s)
         sweep = result.get("sweep") or []
         if sweep:
             rl.log_sweep_axes(rec, component, [s["f_hz"] for s in sweep],

@@ -44,7 +44,9 @@ __all__ = ["TIMELINE", "RunRecording", "log_component_frame",
 
 TIMELINE = "sim_time"
 MAX_SHAPE_FRAMES = 400      # deformed shapes logged per component (evenly subsampled)
-AXIS_COLORS = {"static": (40, 110, 255), "torsion": (30, 170, 60), "bending": (120, 200, 60)}
+AXIS_COLORS = {"static": (40, 110, 255), "torsion": (30, 170, 60), "bending": (120, 200, 60),
+               "principal_1": (148, 103, 189), "principal_2": (140, 86, 75),
+               "principal_3": (227, 119, 194)}
 STRUCTURE_COLOR = (230, 130, 30)
 UNDEFORMED_COLOR = (150, 150, 150)
 CLAMP_COLOR = (90, 200, 255)       # light blue, as the clamp dots of the paper's Figs. 2, 5-7
@@ -249,7 +251,8 @@ def log_load(rec, component, times, forces, load_xyz, end_displacements,
 
 
 def log_axis(rec, component, test, l, beta, q0, half_length=None):
-    """Deformation axis of one test (static, torsion, bending) and its joint, as Figs. 5-7.
+    """Deformation axis of one test (static, torsion, bending, principal_<i>) and its joint, as
+    Figs. 5-7.
 
     l [m], beta [rad] as identified (eqs. 5-6); q0 [m] the unloaded loaded end. The strip is
     drawn ``half_length`` [m] (default: |q0|) either side of the joint in the x-z plane.

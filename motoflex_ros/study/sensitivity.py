@@ -101,10 +101,11 @@ def run_sensitivity(study_function, nominal, speeds, levels=2, rel_range=0.10, s
 
     ``study_function`` maps {factor: array (runs,)} [N m/rad] to {"weave": ..., "wobble": ...}
     eigenvalues (runs, speeds) on ``speeds`` [m/s] (e.g. from
-    :func:`motoflex_ros.study.tracked.pencil_study`); ``scheduler`` as in
+    :func:`motoflex_ros.study.tracked.pencil_study`); the factors are ``nominal``'s keys in its
+    order (the paper's six, or the principal hinges'); ``scheduler`` as in
     :func:`motoflex_ros.study.runner.run_study`; ``extra_ranges_kmh`` as in
     :func:`stability_indices`. Returns (SensitivityResult, StudyRun).
     """
-    design = full_factorial(nominal, levels=levels, rel_range=rel_range)
+    design = full_factorial(nominal, levels=levels, rel_range=rel_range, factors=tuple(nominal))
     run = run_study(study_function, design, scheduler=scheduler, progress=progress)
     return analyse_sensitivity(design, speeds, run.outputs, extra_ranges_kmh), run
