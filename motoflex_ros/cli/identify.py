@@ -232,6 +232,9 @@ def run(args):
     if args.out:
         check_new_file(args.out, args.force)
     components, carried = carried_inertias(args.component or list(DEFAULT_COMPONENTS))
+    if args.protocol:   # a bad protocol is refused before the work (and its progress) starts
+        from motoflex_ros.bench.protocols import load_protocol
+        load_protocol(args.protocol)
     with progress_bar(len(components), "bench identification", "component") as bar:
         runs = identify_components(components, args.protocol, args.noise, args.seed,
                                    progress=lambda _name: bar.update(1), carried=carried)
