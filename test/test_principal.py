@@ -1,5 +1,7 @@
 """Principal hinges (beyond the paper, identify/principal.py): closed forms, the bench's moment
 tests, the rule, the reasons given where there are none."""
+import json
+
 import numpy as np
 import pytest
 import yaml
@@ -180,6 +182,9 @@ def test_indefinite_compliance_gives_a_clear_message():
     result = identify_principal(readings, Q0, FixedMetric(np.eye(3)))
     assert not result.identified
     assert "C is indefinite" in result.problem and "moments" in result.problem
+    written = json.loads(json.dumps(result.to_dict()))   # what identify and the node write
+    assert written["identified"] is False and written["problem"] == result.problem
+    np.testing.assert_allclose(written["compliance"], result.compliance)
 
 
 def test_moment_tests_are_planned_with_their_unit_moments():
@@ -301,3 +306,41 @@ def test_tube_end_compliance_is_the_timoshenko_cantilever(tmp_path):
     measured = rotate @ result.compliance @ rotate.T
     # measured 4e-7 of the largest entry (the FE beam is the Timoshenko cantilever)
     np.testing.assert_allclose(measured, local, rtol=1e-5, atol=1e-5 * np.abs(local).max())
+
+
+@pytest.mark.parametrize("component, body_names, wheel_names", [
+    ("front_assembly", ("lower_fork",), ("front",)),   # issue 22: lower fork plus front wheel
+    ("swingarm", (), ("rear",)),                        # the rear wheel
+])
+def test_metric_is_the_carried_bodies_kinetic_energy_at_q0(component, body_names, wheel_names):
+    """G, the metric of the principal hinges, against a second formulation: the kinetic energy
+    of each carried body of the vehicle file, body by body, for the motions (u_y, theta_x,
+    theta_z) of q0 (J^T diag(m, I) J summed; a sign slip in the offset terms moves the front
+    assembly's bending hinge by 14 deg)."""
+    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.study.variants import carried_by_component
+    from motoflex_ros.vehicle import lumped
+    from motoflex_ros.vehicle.model import load_vehicle
+
+    vehicle = load_vehicle(config_path("vehicles", "touring"))
+    bodies = {b.name: b for b in vehicle.bodies}
+    wheels = {w.name: w for w in vehicle.wheels}
+    parts = [(bodies[n].mass, bodies[n].com, bodies[n].inertia) for n in body_names]
+    parts += [(wheels[n].mass, wheels[n].centre, wheels[n].inertia) for n in wheel_names]
+    comp = load_component(component)
+    q0 = np.asarray(comp.clamped_reduced().q0)
+    q0_vehicle = q0 + lumped.site_of(comp).origin
+    expected = np.zeros((3, 3))
+    for mass, com, inertia in parts:
+        r = np.asarray(com, float) - q0_vehicle
+        jac = np.zeros((6, 3))
+        jac[1, 0] = 1.0                                   # u_y: a lateral translation
+        for j, axis in ((1, np.array([1.0, 0.0, 0.0])), (2, np.array([0.0, 0.0, 1.0]))):
+            jac[:3, j] = np.cross(axis, r)                # theta about q0: the centre moves
+            jac[3:, j] = axis
+        inertia6 = np.zeros((6, 6))
+        inertia6[:3, :3] = mass * np.eye(3)
+        inertia6[3:, 3:] = inertia
+        expected += jac.T @ inertia6 @ jac
+    metric = carried_by_component(vehicle, {component: comp})[component].metric(q0)
+    np.testing.assert_allclose(metric, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())

@@ -265,14 +265,16 @@ class PrincipalIdentification:
         metric and the carried inertia it came from."""
         out = {"identified": self.identified, "problem": self.problem,
                "n_hinges": len(self.hinges), "hinges": [h.to_dict() for h in self.hinges]}
-        if self.compliance is not None:
+        if self.compliance is not None:   # also on a C refused as indefinite: it is shown
             lam = np.asarray(self.lam, float)
             with np.errstate(divide="ignore", invalid="ignore"):
                 f = np.where(lam > 0, 1.0 / (2.0 * np.pi * np.sqrt(np.abs(lam))), np.nan)
             out.update(lambda_s2=[float(v) for v in lam], f_hz=[float(v) for v in f],
-                       compliance=self.compliance.tolist(),
-                       compliance_ci_half=self.compliance_ci.tolist(),
-                       metric=self.metric.tolist(), level=LEVEL, **self.info)
+                       compliance=self.compliance.tolist(), level=LEVEL, **self.info)
+            for key, value in (("compliance_ci_half", self.compliance_ci),
+                               ("metric", self.metric)):
+                if value is not None:
+                    out[key] = value.tolist()
         if self.carried is not None:
             out["carried"] = self.carried.to_dict()
         return out
@@ -310,9 +312,9 @@ def identify_principal(readings, q0, carried, wrenches=None):
     """
     missing = [t for t in PRINCIPAL_TESTS if t not in readings]
     if missing:
-        return not_identified(f"the protocol has no {' and '.join(missing)} test (the "
-                              "protocol's 'moments' section: moments at q0 along O-q0 and its "
-                              "normal)")
+        return not_identified(f"no {' and '.join(missing)} test (a virtual bench: the "
+                              "protocol's 'moments' section, moments at q0 along O-q0 and its "
+                              "normal; a measured record: two static holds of a moment at q0)")
     if carried is None:
         return not_identified("no carried inertia given (the vehicle file's bodies, or the "
                               "bench file's 'carried' key): the hinges need its metric")
@@ -335,8 +337,8 @@ def identify_principal(readings, q0, carried, wrenches=None):
         return not_identified(
             f"the measured end compliance C is indefinite (eigenvalues "
             f"{', '.join(f'{e:.3g}' for e in eig)}): the sensor noise exceeds the deflection of "
-            "the stiffest direction; raise the moments' amplitudes (protocol 'moments') or "
-            "lower sensor.noise_m", compliance=c)
+            "the stiffest direction; raise the moments' amplitudes (protocol 'moments', or the "
+            "real bench's loads) or lower the sensor noise", compliance=c)
     lam, rows = principal_hinges(c, g, q0)
     n = len(rows)
     if n == 0:
