@@ -91,7 +91,12 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     assert made["command"].startswith("motoflex campaign") and str(bag) in made["command"]
     assert made["seed"] == 0 and list(made["sensor_noise_m"]) == [COMPONENT]
     assert made["command"] in html.unescape(report)
-    live = json.loads((bag / "identification.json").read_text())
+    recorded = json.loads((bag / "identification.json").read_text())
+    # issue 23, point 2: the run's inputs by SHA-256, and the identification's own record of
+    # the files it came from, the same hashes
+    assert made["inputs"] and all(len(h) == 64 for h in made["inputs"].values())
+    assert recorded[COMPONENT]["inputs"] == made["inputs"]
+    live = {c: {k: v for k, v in r.items() if k != "inputs"} for c, r in recorded.items()}
     assert json.loads((bag / "status.json").read_text())["status"] == "complete"
     assert not (bag / ".identification.partial.json").exists()
     offline = {n: to_jsonable(r.identification.to_dict())
@@ -116,7 +121,7 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     assert info.count(f"/bench/{COMPONENT}/markers/true") == samples
     assert info.count(f"/bench/{COMPONENT}/markers/measured") == samples + 1  # + the flush
     assert info.count("/identification/results") == 1
-    _replay_reproduces(tmp_path, bag, live)
+    _replay_reproduces(tmp_path, bag, recorded)
 
 
 def _replay_reproduces(tmp_path, bag, live):

@@ -7,8 +7,10 @@ namespace, ``-r __ns:=<namespace>`` (its topics are relative: all of them move u
 which rclpy's time source reads, is remapped to <namespace>/clock); stdout and
 stderr go to ``<log_dir>/<node>.log``. The nodes write their publishers' GIDs to
 ``<work_dir>/endpoints`` and accept messages only from those
-(:mod:`motoflex_ros.nodes.endpoints`). Processes are ended by their own pid only: SIGINT, then
-SIGTERM, then SIGKILL after a grace period each.
+(:mod:`motoflex_ros.nodes.endpoints`). The run's inputs are pinned: the SHA-256 of every input
+the launcher read and of every params file it wrote go to ``<work_dir>/input_pins.json``,
+named in ``MOTOFLEX_INPUT_PINS`` for the nodes (:mod:`motoflex_ros.input_pins`). Processes are
+ended by their own pid only: SIGINT, then SIGTERM, then SIGKILL after a grace period each.
 """
 import os
 import signal
@@ -21,6 +23,7 @@ from pathlib import Path
 import yaml
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.input_pins import PINS_ENV, sha256_bytes, write_pins
 from motoflex_ros.launcher.dds import configure_dds
 from motoflex_ros.nodes.endpoints import ENDPOINTS_ENV
 
@@ -86,8 +89,9 @@ def describe_exit(code):
 class NodeGraph:
     """The processes of one run. Use as a context manager: leaving it stops every node."""
 
-    def __init__(self, specs, domain_id, work_dir, namespace=None):
+    def __init__(self, specs, domain_id, work_dir, namespace=None, pins=None):
         self.specs = tuple(specs)
+        self.pins = dict(pins or {})   # {absolute path: SHA-256} of the run's inputs
         self.domain_id = domain_id
         self.namespace = "/" + (namespace or "").strip("/")
         self.work_dir = Path(work_dir)
@@ -105,14 +109,21 @@ class NodeGraph:
             stale.unlink()
         env = ros_env(self.domain_id, self.log_dir)
         env[ENDPOINTS_ENV] = str(self.endpoints_dir)
+        commands = {}
         for spec in self.specs:
             params_file = params_dir / f"{spec.name}.yaml"
             params = {k: list(v) if isinstance(v, tuple) else v for k, v in spec.params.items()}
-            params_file.write_text(yaml.safe_dump(
-                {node_key(self.namespace, spec.name): {"ros__parameters": params}}))
-            cmd = [sys.executable, "-m", spec.module_name, "--ros-args",
-                   "-r", f"__node:={spec.name}", *namespace_args(self.namespace),
-                   "--params-file", str(params_file)]
+            text = yaml.safe_dump(
+                {node_key(self.namespace, spec.name): {"ros__parameters": params}}).encode()
+            params_file.write_bytes(text)
+            self.pins[str(params_file.resolve())] = sha256_bytes(text)
+            commands[spec.name] = [sys.executable, "-m", spec.module_name, "--ros-args",
+                                   "-r", f"__node:={spec.name}",
+                                   *namespace_args(self.namespace),
+                                   "--params-file", str(params_file)]
+        env[PINS_ENV] = str(write_pins(self.work_dir / "input_pins.json", self.pins))
+        for spec in self.specs:
+            cmd = commands[spec.name]
             with open(self.log_dir / f"{spec.name}.log", "wb") as log:
                 self.procs[spec.name] = subprocess.Popen(
                     cmd, env=env, stdout=log, stderr=subprocess.STDOUT,

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.input_pins import InputChanged, check_pins
 from motoflex_ros.launcher.dds import configure_dds
 from motoflex_ros.launcher.domain import DomainLock, requested_domain
 from motoflex_ros.launcher.graph import NodeDied, NodeGraph, describe_exit
@@ -91,10 +92,12 @@ recorder, which subscribes once it has discovered each topic's publishers, last)
 
 def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=False,
               ready_timeout=READY_TIMEOUT_S, drain_timeout=30.0, finishers=(),
-              finish_timeout=300.0, namespace=None):
+              finish_timeout=300.0, namespace=None, pins=None):
     """Run ``specs`` until ``pacer`` exits 0 (and then every node in ``finishers``); returns a
     :class:`RunResult`. ``collect``: (topic, msg_type) pairs whose messages the monitor keeps
     (topics relative to ``namespace``, where every node runs: None or '/' for the root).
+    ``pins``: {absolute path: SHA-256} of the inputs the launcher read; the nodes check what
+    they read against them, and a pinned file that changed before the run ended fails it.
     """
     work_dir = Path(work_dir or tempfile.mkdtemp(prefix="motoflex_run_"))
     start = time.monotonic()
@@ -105,7 +108,7 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
                 where = f", namespace {namespace}" if (namespace or "/").strip("/") else ""
                 print(f"motoflex: ROS_DOMAIN_ID {lock.domain_id} ({lock.origin}){where}; {dds}",
                       file=sys.stderr, flush=True)
-                graph = NodeGraph(specs, lock.domain_id, work_dir, namespace)
+                graph = NodeGraph(specs, lock.domain_id, work_dir, namespace, pins)
                 try:
                     graph.start()   # inside the try: a failure half-way stops what started
                     collected = _monitor(graph, pacer, duration_s, collect, progress,
@@ -116,11 +119,12 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
                 codes = graph.stop()
                 raise_if_interrupted()
                 _check_exit_codes(graph, codes)
+                check_pins(graph.pins)
         except KeyboardInterrupt as exc:
             what = str(exc) or "SIGINT"
             raise RunInterrupted(f"interrupted by {what}; every node stopped "
                                  f"(logs: {work_dir / 'log'})") from None
-        except NodeDied as exc:
+        except (NodeDied, InputChanged) as exc:
             raise RunFailed(str(exc)) from None
     return RunResult(lock.domain_id, time.monotonic() - start, codes, collected)
 

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.input_pins import note_input, read_input
 from motoflex_ros.structures.solid import SOLID_TYPES, SolidBlock
 
 __all__ = ["MeshData", "read_mesh", "MESH_SUFFIXES", "UNITS"]
@@ -71,6 +72,7 @@ def _read(path, yaml_source, key):
                                             f"'{path.suffix}' (supported: "
                                             f"{', '.join(MESH_SUFFIXES)})")
     fmt = "nastran" if path.suffix.lower() in _NASTRAN else None
+    note_input(path)   # meshio reads it itself: hashed (and checked against the run's pins)
     try:
         return meshio.read(str(path), file_format=fmt)
     except Exception as exc:   # meshio raises many kinds (ReadError, KeyError, ValueError...)
@@ -81,7 +83,7 @@ def _read(path, yaml_source, key):
 
 def _nastran_sets(path, points_id):
     """{str(SID): point indices} of the SET1 cards of a Nastran file (free or small field)."""
-    text = path.read_text(errors="replace")
+    text = read_input(path).decode(errors="replace")
     lookup = {int(g): i for i, g in enumerate(points_id)}
     cards, current = [], None
     for line in text.splitlines():

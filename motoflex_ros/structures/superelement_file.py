@@ -22,6 +22,7 @@ Rows that belong to no interface node are the reduction's generalized (modal) co
 superelement enters the bench and the vehicle like our own reductions: its matrices are the
 Craig-Bampton model (no reduction is made again), the clamps' rows are deleted for the bench.
 """
+import io
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -31,6 +32,7 @@ import scipy.sparse as sp
 
 from motoflex_ros.config import Field, validate
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.input_pins import read_input
 from motoflex_ros.structures.assembly import AssembledStructure
 from motoflex_ros.structures.components import DEFAULT_DAMPING_RATIO, ComponentModel
 from motoflex_ros.structures.craig_bampton import CraigBamptonModel, checked_damping_ratio
@@ -124,8 +126,9 @@ def _matrix(path, source, key, size=None):
     from scipy.io import mmread
     if not path.is_file():
         raise ConfigError(source, key, f"matrix file not found: {path}")
+    data = read_input(path)   # checked against the run's pins
     try:
-        matrix = mmread(str(path))
+        matrix = mmread(io.BytesIO(data))
     except Exception as exc:   # scipy raises ValueError, OSError, IndexError...
         raise ConfigError(source, key, f"{path}: not a Matrix Market file ({exc})") from None
     matrix = matrix.toarray() if sp.issparse(matrix) else np.asarray(matrix, float)
