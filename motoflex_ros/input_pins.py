@@ -20,7 +20,7 @@ from pathlib import Path
 from motoflex_ros.errors import MotoflexError
 
 __all__ = ["InputChanged", "PINS_ENV", "read_input", "note_input", "recording_inputs",
-           "sha256_bytes", "check_pins", "load_pins", "write_pins"]
+           "sha256_bytes", "sha256_file", "check_pins", "load_pins", "write_pins"]
 
 PINS_ENV = "MOTOFLEX_INPUT_PINS"
 _recorders = []
@@ -38,6 +38,15 @@ def sha256_bytes(data):
     'e3b0c44298fc1c14'
     """
     return hashlib.sha256(data).hexdigest()
+
+
+def sha256_file(path, block=1 << 20):
+    """Hex SHA-256 of the file ``path``, read in blocks (a bag of gigabytes too)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as stream:
+        for data in iter(lambda: stream.read(block), b""):
+            digest.update(data)
+    return digest.hexdigest()
 
 
 def _key(path):

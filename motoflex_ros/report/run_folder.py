@@ -53,7 +53,7 @@ def run_problems(folder):
     provenance = _json_file(folder, "provenance.json", problems, "no provenance.json")
     if isinstance(results, dict):
         _check_results(results, provenance, problems)
-    problems.extend(_bag_problems(folder))
+    problems.extend(_bag_problems(folder, provenance))
     return problems
 
 
@@ -96,13 +96,19 @@ def _check_results(results, provenance, problems):
                 return
 
 
-def _bag_problems(folder):
+def _bag_problems(folder, provenance):
+    from motoflex_ros.input_pins import sha256_file
     from motoflex_ros.record.mcap_bag import BagError, bag_info
     try:
         info = bag_info(folder, verify=True)   # every chunk read, its CRC checked
     except BagError as exc:
         return [f"its bag is not readable ({exc})"]
     problems = []
+    recorded = (provenance or {}).get("bag")
+    if isinstance(recorded, dict) and recorded.get("sha256") != sha256_file(info.mcap_file):
+        problems.append(f"its bag {info.mcap_file.name} is not the one the run recorded "
+                        f"(SHA-256 differs from provenance.json's, file "
+                        f"{recorded.get('file')})")
     if info.repaired:
         problems.append(f"its bag was repaired by 'motoflex bag repair' ({info.repaired})")
     if info.count("/identification/results") < 1:
