@@ -157,3 +157,65 @@ def test_provenance_and_identification_name_the_inputs_hashes(tmp_path):
     _, everything = campaign_inputs(["frame", "front_assembly", "swingarm"])
     assert str(config_path("vehicles", VEHICLE).resolve()) in everything
     assert json.loads(json.dumps(everything)) == everything
+
+
+# ---------------------------------------------------------------- point 3: a bounded live store
+def test_live_measured_inputs_keep_a_rolling_bound(tmp_path):
+    """Issue 23, point 3: with ``max_frames`` 50, 120 loads and marker frames and one PoseArray
+    of 100,000 poses: the 50 most recent of each are kept, 70 counted as dropped oldest, the
+    huge one dropped unread by its size and counted; memory is the bound's, not the stream's.
+    (A real node and publisher in one process; benchmarks/bench_live_memory.py measures a
+    30-minute stream at 1 kHz.)"""
+    import rclpy
+    from geometry_msgs.msg import Pose, PoseArray, WrenchStamped
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+    from test_measured_live import bench_yaml
+
+    from motoflex_ros.launcher.domain import DomainLock
+    from motoflex_ros.nodes.measured_inputs import MeasuredInputs
+
+    bench = tmp_path / "bench.yaml"
+    bench.write_text(bench_yaml("rig", (0.5, 0.0, 0.0)))
+    params = {"bench_file": str(bench), "load_topic": "", "markers_topic": "",
+              "marker_msg": "PoseArray", "n_markers": 0, "identify_topic": "",
+              "idle_timeout_s": 0.0, "qos": "reliable", "max_frames": 50}
+    with DomainLock() as lock:
+        context = rclpy.Context()
+        rclpy.init(context=context, domain_id=lock.domain_id)
+        try:
+            node = rclpy.create_node("identification", context=context)
+            live = MeasuredInputs(node, params)
+            rig = rclpy.create_node("rig", context=context)
+            qos = QoSProfile(depth=1, history=HistoryPolicy.KEEP_ALL,
+                             reliability=ReliabilityPolicy.RELIABLE)
+            loads = rig.create_publisher(WrenchStamped, "/bench/rig/load", qos)
+            markers = rig.create_publisher(PoseArray, "/bench/rig/markers/measured", qos)
+            executor = SingleThreadedExecutor(context=context)
+            executor.add_node(node)
+            executor.add_node(rig)
+            while not live.inputs_ready() or loads.get_subscription_count() < 1 or \
+                    markers.get_subscription_count() < 1:
+                executor.spin_once(timeout_sec=0.1)
+            huge = PoseArray(poses=[Pose() for _ in range(100_000)])
+            for k in range(120):
+                wrench, frame = WrenchStamped(), PoseArray(poses=[Pose() for _ in range(4)])
+                for msg in (wrench, frame):
+                    msg.header.stamp.sec, msg.header.stamp.nanosec = 1, 1_000_000 * k
+                loads.publish(wrench)
+                markers.publish(frame)
+                if k == 60:
+                    markers.publish(huge)
+                executor.spin_once(timeout_sec=0)
+            while live.received.get("load", 0) < 120 or live.received.get("markers", 0) < 120:
+                executor.spin_once(timeout_sec=0.1)
+            executor.spin_once(timeout_sec=0.2)
+        finally:
+            rclpy.try_shutdown(context=context)
+    assert live.received["oversized"] == 1
+    assert live.received["dropped_oldest_load"] == live.received["dropped_oldest_markers"] == 70
+    stamps, _, _ = live.loads.rows()
+    assert stamps.tolist() == [10**9 + 1_000_000 * k for k in range(70, 120)]
+    kept = live.frames.messages()
+    assert [s for s, _ in kept] == stamps.tolist() and all(len(p) == 4 for _, p in kept)
+    assert live.frames.nbytes() <= 50 * 4 * (8 + 24 + 8)   # the bound's arrays, no more

@@ -35,6 +35,21 @@ class NodeDied(MotoflexError):
     """A node process ended while the run needed it."""
 
 
+STOPPED_LIMIT_S = 5.0
+"""How long a node's process may stay stopped (SIGSTOP, a debugger: state T) before the run
+fails naming it [s]; the other nodes' stall timeouts (30 s) would otherwise name the node that
+waits for it, not the one that stalled."""
+
+
+def process_state(pid):
+    """The state letter of process ``pid`` (R, S, D, T stopped, t traced, Z...), or None."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    return stat.rsplit(")", 1)[1].split()[0]
+
+
 @dataclass(frozen=True)
 class NodeSpec:
     """One node process: ``name`` (node and executable name), its parameters, and the module
@@ -98,6 +113,7 @@ class NodeGraph:
         self.log_dir = self.work_dir / "log"
         self.endpoints_dir = self.work_dir / "endpoints"
         self.procs = {}
+        self.stopped_since = {}   # {name: monotonic time it was first seen stopped}
 
     def start(self):
         """Write each node's params file and start its process."""
@@ -135,12 +151,28 @@ class NodeGraph:
         return {n: p.returncode for n, p in self.procs.items() if p.poll() is not None}
 
     def check_alive(self, allowed=()):
-        """Raise NodeDied naming the first node that ended (except those in ``allowed``)."""
+        """Raise NodeDied naming the first node that ended (except those in ``allowed``), or
+        that has been stopped (SIGSTOP) for STOPPED_LIMIT_S."""
         for name, code in self.exited().items():
             if name not in allowed:
                 verb = "stopped before the run ended" if code == 0 else "died"
                 raise NodeDied(f"node '{name}' {verb} ({describe_exit(code)}); its log: "
                                f"{self.log_dir / (name + '.log')}: {self.log_tail(name)}")
+        self.check_stopped()
+
+    def check_stopped(self, limit=STOPPED_LIMIT_S):
+        """NodeDied naming a node whose process has been stopped (state T: SIGSTOP, or t: a
+        debugger) for ``limit`` [s]; a node continued (SIGCONT) in time is forgotten."""
+        now = time.monotonic()
+        for name, proc in self.procs.items():
+            if proc.poll() is None and process_state(proc.pid) in ("T", "t"):
+                since = self.stopped_since.setdefault(name, now)
+                if now - since >= limit:
+                    raise NodeDied(f"node '{name}' (pid {proc.pid}) has been stopped for "
+                                   f"{now - since:.0f} s (SIGSTOP or a debugger: process state "
+                                   f"T); the run cannot go on without it")
+            else:
+                self.stopped_since.pop(name, None)
 
     def log_tail(self, name, lines=3):
         """Last lines of a node's log, on one line."""
@@ -164,6 +196,7 @@ class NodeGraph:
             for proc in alive:
                 try:
                     os.kill(proc.pid, sig)
+                    os.kill(proc.pid, signal.SIGCONT)   # a stopped node must see it too
                 except ProcessLookupError:
                     pass
             deadline = time.monotonic() + grace
