@@ -77,8 +77,8 @@ def test_node_refuses_a_component_file_that_is_not_the_pinned_one(tmp_path):
     assert str(component) in line and "input changed during the run" in line
 
 
-def _campaign(tmp_path, *args):
-    env = dict(os.environ, TMPDIR=str(tmp_path), OPENBLAS_NUM_THREADS="1")
+def _campaign(tmp_path, *args, **extra_env):
+    env = dict(os.environ, TMPDIR=str(tmp_path), OPENBLAS_NUM_THREADS="1", **extra_env)
     return subprocess.Popen([sys.executable, "-m", "motoflex_ros.cli.main", "campaign", *args],
                             env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
 
@@ -219,3 +219,88 @@ def test_live_measured_inputs_keep_a_rolling_bound(tmp_path):
     kept = live.frames.messages()
     assert [s for s, _ in kept] == stamps.tolist() and all(len(p) == 4 for _, p in kept)
     assert live.frames.nbytes() <= 50 * 4 * (8 + 24 + 8)   # the bound's arrays, no more
+
+
+# ---------------------------------------------------------------- point 9: a full domain
+PAIR = """import os, sys, time
+from motoflex_ros.launcher.dds import configure_dds
+configure_dds(os.environ)
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from std_msgs.msg import String
+got, nodes, executors = [], [], []
+for name in ("talker", "listener"):
+    context = rclpy.Context()
+    rclpy.init(context=context, domain_id=int(sys.argv[1]))
+    nodes.append(rclpy.create_node(name, context=context))
+    executors.append(SingleThreadedExecutor(context=context))
+    executors[-1].add_node(nodes[-1])
+publisher = nodes[0].create_publisher(String, "chat", 10)
+nodes[1].create_subscription(String, "chat", got.append, 10)
+deadline = time.monotonic() + float(sys.argv[2])
+while not got and time.monotonic() < deadline:
+    publisher.publish(String(data="hello"))
+    for executor in executors:
+        executor.spin_once(timeout_sec=0.05)
+print("received" if got else "nothing")
+"""
+
+
+def _occupy_participant_ids(domain, count):
+    """Bind the unicast ports of participant ids 0..count-1 of ``domain`` on 127.0.0.1, as
+    ``count`` DDS participants of this host do: Fast DDS gives a new participant the first id
+    whose ports are free, so the run's participants come after them (what 100 real
+    participants in one process do too, checked by hand: 24 s to start them, the pair then
+    discovered in 1.5 s; this costs nothing). Returns the sockets."""
+    import socket
+
+    from motoflex_ros.launcher.domain import DOMAIN_GAIN, PORT_BASE
+    sockets = []
+    for pid in range(count):
+        for port in (10 + 2 * pid, 11 + 2 * pid):   # metatraffic and user unicast
+            s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+            s.bind(("127.0.0.1", PORT_BASE + DOMAIN_GAIN * domain + port))
+            sockets.append(s)
+    return sockets
+
+
+def test_a_hundred_participants_in_the_domain_leave_room_for_a_run(tmp_path):
+    """Issue 23, point 9: the loopback profile announced to the first 32 participant ids of
+    a domain; a run whose participants came after 34 others never discovered itself (with 32
+    this test's pair exchanges nothing in 15 s). With 100 participants in the domain two
+    more must find each other."""
+    from motoflex_ros.launcher.domain import DomainLock
+    with DomainLock() as lock:
+        sockets = _occupy_participant_ids(lock.domain_id, 100)
+        try:
+            pair = subprocess.run([sys.executable, "-c", PAIR, str(lock.domain_id), "30"],
+                                  env=dict(os.environ, ROS_LOG_DIR=str(tmp_path / "log")),
+                                  capture_output=True, text=True, timeout=120)
+        finally:
+            for s in sockets:
+                s.close()
+    assert pair.stdout.strip() == "received", pair
+
+
+def test_campaign_in_a_domain_beyond_the_profiles_reach_is_refused_naming_it(tmp_path):
+    """When the domain already holds more participants than the loopback profile's
+    maxInitialPeersRange leaves room for, the campaign stops at once saying so (it used to
+    wait 40 s and blame a node that did not announce itself)."""
+    from motoflex_ros.launcher.dds import loopback_profile
+    from motoflex_ros.launcher.domain import DomainLock
+    with DomainLock() as lock:
+        domain = lock.domain_id
+    sockets = _occupy_participant_ids(domain, 118)
+    try:
+        start = time.monotonic()
+        proc = _campaign(tmp_path, "--component", "swingarm", "--out", str(tmp_path / "run"),
+                         "--report", "none", ROS_DOMAIN_ID=str(domain))
+        _, err = proc.communicate(timeout=120)
+    finally:
+        for s in sockets:
+            s.close()
+    assert proc.returncode == 2 and time.monotonic() - start < FAULT_S
+    line = _one_line_error(err)
+    assert f"ROS_DOMAIN_ID {domain} has 118 DDS participants" in line, line
+    assert "maxInitialPeersRange" in line and str(loopback_profile()) in line
+    assert not (tmp_path / "run").exists()   # refused before any node started
