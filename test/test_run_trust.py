@@ -304,3 +304,51 @@ def test_campaign_in_a_domain_beyond_the_profiles_reach_is_refused_naming_it(tmp
     assert f"ROS_DOMAIN_ID {domain} has 118 DDS participants" in line, line
     assert "maxInitialPeersRange" in line and str(loopback_profile()) in line
     assert not (tmp_path / "run").exists()   # refused before any node started
+
+
+# ---------------------------------------------------------------- hostile run cases of our own
+def test_node_refuses_a_params_file_changed_after_the_launcher_pinned_it(tmp_path):
+    """The launcher pins each node's params file too: one rewritten between the launcher
+    writing it and the node reading it (another process, a full disk's truncation) stops
+    the node at start-up naming the file, before rclpy uses it."""
+    params = tmp_path / "identification.yaml"
+    params.write_text("identification: {ros__parameters: {seed: 1}}\n")
+    pins = input_pins.write_pins(tmp_path / "pins.json", {
+        str(params.resolve()): input_pins.sha256_bytes(b"identification: {}\n")})
+    done = _node("identification", "--ros-args", "--params-file", str(params),
+                 env={input_pins.PINS_ENV: str(pins), "ROS_LOG_DIR": str(tmp_path / "log")})
+    assert done.returncode == 2
+    line = _one_line_error(done.stderr)
+    assert str(params) in line and "input changed during the run" in line, line
+
+
+@pytest.mark.parametrize("pins_text", [None, "not json", "[1, 2]"])
+def test_node_refuses_unreadable_pins(tmp_path, pins_text):
+    """MOTOFLEX_INPUT_PINS naming a missing file, or one that is not a mapping: the node
+    cannot hold its inputs to anything; one line naming the file, exit 2."""
+    pins = tmp_path / "pins.json"
+    if pins_text is not None:
+        pins.write_text(pins_text)
+    done = _node("component_simulator", "--ros-args", "-p", "components:=['swingarm']",
+                 env={input_pins.PINS_ENV: str(pins), "ROS_LOG_DIR": str(tmp_path / "log")})
+    assert done.returncode == 2
+    line = _one_line_error(done.stderr)
+    assert str(pins) in line and "input pins" in line, line
+
+
+def test_campaign_into_a_folder_in_use_is_refused_at_once(tmp_path):
+    """Two runs, one folder: the second campaign into a folder that holds a run (here a
+    finished one's files) stops at once naming it, and leaves the folder as it was."""
+    folder = tmp_path / "run"
+    folder.mkdir()
+    (folder / "status.json").write_text('{"status": "complete"}\n')
+    before = sorted(p.name for p in folder.iterdir())
+    start = time.monotonic()
+    proc = _campaign(tmp_path, "--component", "swingarm", "--out", str(folder), "--report",
+                     "none")
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 2 and time.monotonic() - start < FAULT_S
+    line = _one_line_error(err)
+    assert str(folder) in line and "not an empty directory" in line, line
+    assert sorted(p.name for p in folder.iterdir()) == before
+    assert (folder / "status.json").read_text() == '{"status": "complete"}\n'
