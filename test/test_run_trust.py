@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pytest
 from processes import processes_naming
+from test_campaign_graph import _wait_for_recording
 
 pytest.importorskip("rclpy")
 from motoflex_ros import input_pins  # noqa: E402
@@ -83,16 +84,6 @@ def _campaign(tmp_path, *args, **extra_env):
                             env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
 
 
-def _wait_for_bag(proc, bag, size=20000, timeout=180):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline and proc.poll() is None:
-        files = list(bag.glob("*.mcap")) if bag.is_dir() else []
-        if files and files[0].stat().st_size > size:
-            return
-        time.sleep(0.2)
-    raise AssertionError(f"the campaign did not record (exit {proc.poll()})")
-
-
 def test_component_file_edited_mid_run_fails_the_campaign_naming_it(tmp_path):
     """Issue 23, point 2: the component's YAML is edited while the campaign runs. The run
     fails naming the file (its nodes read it before the edit; the launcher's end check sees
@@ -104,7 +95,7 @@ def test_component_file_edited_mid_run_fails_the_campaign_naming_it(tmp_path):
     proc = _campaign(tmp_path, "--component", str(component), "--out", str(bag),
                      "--report", "none")
     try:
-        _wait_for_bag(proc, bag)
+        _wait_for_recording(proc, bag)
         # a stiffer arm: another model, as in the issue's report (a changed material)
         component.write_text(original.replace("E: 7.0e10", "E: 9.0e10"))
         _, err = proc.communicate(timeout=300)
