@@ -96,13 +96,13 @@ def test_component_file_edited_mid_run_fails_the_campaign_naming_it(tmp_path):
                      "--report", "none")
     try:
         _wait_for_recording(proc, bag)
-        # a stiffer arm: another model, as in the report (a changed material)
-        component.write_text(original.replace("E: 7.0e10", "E: 9.0e10"))
-        _, err = proc.communicate(timeout=300)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.communicate()
+    except BaseException:
+        proc.kill()   # never leave the campaign behind a failed wait
+        proc.communicate()
+        raise
+    # a stiffer arm: another model, as in the report (a changed material)
+    component.write_text(original.replace("E: 7.0e10", "E: 9.0e10"))
+    _, err = proc.communicate(timeout=300)
     assert proc.returncode != 0
     line = _one_line_error(err)
     assert str(component.resolve()) in line and "input changed during the run" in line, line
