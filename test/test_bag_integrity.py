@@ -125,9 +125,21 @@ def test_repair_of_a_finished_bag_writes_a_new_marked_bag(tmp_path):
     assert shown.returncode == 0 and "REPAIRED BAG (not as recorded)" in shown.stdout
     # a second repair does not overwrite the first one's bag
     _refused(*_cli("bag", "repair", bag, cwd=tmp_path), repaired, "exists")
-    # replay says so (after the refusal of a run without status, with --allow-incomplete)
+    # replay refuses it as a run that did not finish, and with --allow-incomplete says what
+    # it is; report refuses it, and with --allow-incomplete labels it at the top
     _refused(*_cli("replay", repaired, "--identify", tmp_path / "x.json", cwd=tmp_path),
              "did not finish")
+    done, _ = _cli("replay", repaired, "--allow-incomplete", "--identify", tmp_path / "x.json",
+                   cwd=tmp_path)
+    assert f"warning: {repaired} is a repaired bag, not as recorded: salvaged" in done.stderr
+    _refused(*_cli("report", repaired, "--no-compute", "--quiet", cwd=tmp_path),
+             "did not finish")
+    done, _ = _cli("report", repaired, "--no-compute", "--quiet", "--allow-incomplete",
+                   cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    html = (repaired / "report.html").read_text()
+    top = html.index('<p class="warning" id="warning">Incomplete run: ')
+    assert "its bag was repaired" in html[top:top + 1000] and top < html.index("<section")
 
 
 def test_repair_of_a_killed_recorders_bag_stays_in_place_and_is_marked(tmp_path):
