@@ -5,6 +5,7 @@ One component (swingarm, the shortest campaign) keeps these tests to about a min
 import html
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -111,6 +112,16 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
                for n, (_, r) in identify_components([COMPONENT], seed=0).items()}
     _assert_same(live, offline)
     assert f"{COMPONENT}  " in out and "paper Table 2" in out
+    # issue 24, point 9: in a log (stderr is a pipe here) the bars are whole lines, the
+    # campaign's over the bench tests with one total from start to end
+    assert "\r" not in err
+    counts = [tuple(map(int, m)) for m in
+              re.findall(r"^campaign: .*\| (\d+)/(\d+) tests", err, re.M)]
+    totals = {total for _, total in counts}
+    assert len(totals) == 1 and f"{totals.pop()} tests" in err.split("campaign: 100%")[1]
+    # the load actuator's rig/progress moved it on test by test, not only at the end
+    assert any(0 < done < total for done, total in counts), counts
+    assert "for the whole command" in out
     info = mcap_bag.bag_info(bag)
     leaves = ("load", "phase", "markers/true", "markers/measured", "pose")
     assert {t.name: t.type for t in info.topics} == {

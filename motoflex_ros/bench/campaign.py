@@ -70,12 +70,13 @@ def setup_campaign(component, protocol=None, noise_m=None):
 def checked_noise(noise_m, source="sensor noise override", key="noise_m"):
     """A sensor-noise override [m] (standard deviation per coordinate), checked to
     [0, MAX_NOISE_M] (:data:`motoflex_ros.bench.sensor.MAX_NOISE_M`, 1 mm)."""
+    from motoflex_ros.config import number_text
     from motoflex_ros.errors import ConfigError
     value = float(noise_m)
     if not 0.0 <= value <= MAX_NOISE_M:
         raise ConfigError(source, key, f"sensor noise must be in [0, {MAX_NOISE_M:g}] m (the "
                                        f"bench's deformations are at most about a millimetre), "
-                                       f"got {value:g}")
+                                       f"got {number_text(value)}")
     return value
 
 

@@ -86,6 +86,37 @@ def compare_results(data_a, data_b, path_a="A", path_b="B"):
     return rows
 
 
+def _number_or_null(value):
+    return value is None or (isinstance(value, (int, float)) and not isinstance(value, bool))
+
+
+def _check_entry(entry, keys, path, where):
+    """ConfigError naming the file and the dotted key where a model (or a component's eq. 12
+    values) of a result is not shaped as ``motoflex identify --out`` writes it: a mapping of
+    numbers (or null) with ``ci`` a mapping of [low, high] pairs."""
+    if entry is None:
+        return
+    if not isinstance(entry, dict):
+        raise ConfigError(path, where, f"expected a mapping (or null), got "
+                                       f"{type(entry).__name__}")
+    for key in keys:
+        if not _number_or_null(entry.get(key)):
+            raise ConfigError(path, f"{where}.{key}", f"expected a number or null, got "
+                                                      f"{type(entry.get(key)).__name__}")
+    ci = entry.get("ci")
+    if ci is None:
+        return
+    if not isinstance(ci, dict):
+        raise ConfigError(path, f"{where}.ci", f"expected a mapping {{quantity: [low, high]}}, "
+                                               f"got {type(ci).__name__}")
+    for key in keys:
+        pair = ci.get(key)
+        if pair is not None and (not isinstance(pair, list) or len(pair) != 2 or
+                                 not all(map(_number_or_null, pair))):
+            raise ConfigError(path, f"{where}.ci.{key}", "expected [low, high]: two numbers "
+                                                         "(or null)")
+
+
 def _load(path):
     from motoflex_ros.identify.results import load_results_file
     data = load_results_file(path)
@@ -93,6 +124,9 @@ def _load(path):
         if not isinstance(result, dict) or "static" not in result:
             raise ConfigError(path, str(name), "not an identification result (no 'static'); "
                                                "give files of motoflex identify --out")
+        for model in MODELS:
+            _check_entry(result.get(model), QUANTITIES, path, f"{name}.{model}")
+        _check_entry(result, ("k_t", "k_b"), path, str(name))
     return data
 
 

@@ -14,7 +14,7 @@ written by ``motoflex bag repair`` is replayed with a warning that says so.
 from motoflex_ros.cli.output import add_force_option, check_new_file
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
-__all__ = ["register", "run", "bag_components"]
+__all__ = ["register", "run", "bag_components", "replay_logs"]
 
 CANONICAL = MOTORCYCLE_COMPONENTS
 
@@ -83,6 +83,14 @@ def run(args):
     return run_node(BagReplay, ["motoflex_replay", "--ros-args", *params])
 
 
+def replay_logs(out):
+    """Where a failed ``replay --identify OUT`` keeps its node logs: OUT's folder,
+    ``<OUT stem>_replay/log/<node>.log``."""
+    from pathlib import Path
+    out = Path(out)
+    return out.parent / f"{out.stem}_replay"
+
+
 def _identify(info, rate, out):
     from pathlib import Path
 
@@ -98,7 +106,9 @@ def _identify(info, rate, out):
              NodeSpec("bag_replay", {"bag": str(info.path), "rate": rate,
                                      "wait_for": ["identification"],
                                      "exclude": ["/rig/", "/identification/", "/vehicle/"]})]
-    with work_folder("motoflex_run_") as work_dir:   # removed at the end
+    # removed at the end; on a failure the node logs are kept beside the output (not in
+    # ~/.ros/log), and the message names them there
+    with work_folder("motoflex_run_", keep_logs_in=replay_logs(out)) as work_dir:
         run = run_graph(specs, "bag_replay", info.duration_ns / 1e9, work_dir=work_dir,
                         finishers=["identification"])
     print(f"identified {', '.join(components)} from {info.path} -> {out} "

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.config import Field, load_yaml, number, validate
+from motoflex_ros.config import Field, load_yaml, number, shown, validate
 from motoflex_ros.errors import ConfigError
 
 __all__ = ["BenchFile", "load_bench", "bench_from_dict", "check_marker_spread", "FROM_DATA",
@@ -100,7 +100,7 @@ def _markers(value, source):
     if not isinstance(value, list):
         raise ConfigError(source, "markers", f"expected '{FROM_DATA}' or a list of >= "
                                              f"{MIN_MARKERS} offsets [dx, dy, dz] [m], got "
-                                             f"{value!r}")
+                                             f"{shown(value)}")
     if len(value) < MIN_MARKERS:
         raise ConfigError(source, "markers", f"expected at least {MIN_MARKERS} markers (a "
                                              f"rigid fit needs three that span a plane), got "

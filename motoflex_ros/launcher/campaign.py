@@ -18,7 +18,7 @@ from motoflex_ros.record.tf_bag import TF_LIVE, TF_STATIC_LIVE
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
            "bench_components",
-           "planned_duration", "campaign_inputs", "RESULT_FILE", "VEHICLE", "VEHICLE_COMPONENTS",
+           "planned_run", "campaign_inputs", "RESULT_FILE", "VEHICLE", "VEHICLE_COMPONENTS",
            "VEHICLE_VARIANT"]
 
 RESULT_FILE = "identification.json"
@@ -116,30 +116,32 @@ def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_fi
     ]
 
 
-def planned_duration(components, noise=None, protocol=None):
-    """Longest planned simulated time over the components [s] (tests may settle sooner)."""
+def planned_run(components, noise=None, protocol=None):
+    """(longest planned simulated time over the components [s] (tests may settle sooner),
+    number of bench tests over all components)."""
     from motoflex_ros.bench.actuator import PAUSE_S
     from motoflex_ros.bench.campaign import setup_campaign
-    longest = 0.0
+    longest, tests = 0.0, 0
     for name in components:
         plan = setup_campaign(name, protocol, noise).plan
         total = sum(t.max_samples / t.rate_hz for t in plan.tests)
         longest = max(longest, total + PAUSE_S * (len(plan.tests) - 1))
-    return longest
+        tests += len(plan.tests)
+    return longest, tests
 
 
 def campaign_inputs(components, noise=None, protocol=None):
-    """(planned duration [s], {absolute path: SHA-256} of every file the campaign's nodes
-    read): each component, its protocol and the files they name, the vehicle when it runs;
-    read here once, so that the nodes can be held to the same bytes."""
+    """(:func:`planned_run`'s (duration [s], tests), {absolute path: SHA-256} of every file
+    the campaign's nodes read): each component, its protocol and the files they name, the
+    vehicle when it runs; read here once, so that the nodes can be held to the same bytes."""
     from motoflex_ros.config import resolve_config
     from motoflex_ros.input_pins import recording_inputs
     from motoflex_ros.vehicle.model import load_vehicle
     with recording_inputs() as inputs:
-        duration = planned_duration(components, noise, protocol)
+        planned = planned_run(components, noise, protocol)
         if with_vehicle(components):
             load_vehicle(resolve_config("vehicles", VEHICLE))
-    return duration, inputs
+    return planned, inputs
 
 
 def _diagnostic_array():
@@ -158,12 +160,12 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
     result_file = bag / RESULT_FILE
     specs = campaign_specs(components, bag, noise, seed, protocol, staged(result_file))
     start = time.monotonic()
-    duration, inputs = campaign_inputs(components, noise, protocol)
+    (duration_s, tests), inputs = campaign_inputs(components, noise, protocol)
     finishers = ["vehicle_simulator"] if with_vehicle(components) else []
     # parameters and logs in a temporary folder, removed at the end; on a failure the logs
     # are kept in the bag's folder (work_folder)
     with work_folder("motoflex_campaign_", work_dir, keep_logs_in=bag) as work_dir:
-        run = run_graph(specs, "load_actuator", duration,
+        run = run_graph(specs, "load_actuator", duration_s, tests_total=tests,
                         work_dir=work_dir, progress=progress, finishers=finishers,
                         collect=[("vehicle/eigenvalues", _diagnostic_array())],
                         namespace=namespace, pins=inputs)

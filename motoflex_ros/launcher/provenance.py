@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 import motoflex_ros
-from motoflex_ros.files import atomic_write_text
+from motoflex_ros.files import atomic_write_text, read_json
 
 __all__ = ["PROVENANCE_FILE", "write_provenance", "read_provenance", "git_state",
            "sensor_noise", "utc_stamp"]
@@ -89,7 +89,7 @@ def read_provenance(folder):
     if not path.is_file():
         return None
     try:
-        record = json.loads(path.read_text(encoding="utf-8"))
+        record = read_json(path)
     except (OSError, ValueError) as exc:
         return {"unreadable": f"{PROVENANCE_FILE}: {exc}"}
     return record if isinstance(record, dict) else {"unreadable": f"{PROVENANCE_FILE}: no dict"}

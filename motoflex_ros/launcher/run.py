@@ -78,9 +78,10 @@ def _keep_logs(exc, logs, kept):
         return
     try:
         shutil.copytree(logs, kept, dirs_exist_ok=True)
-    except OSError:
-        return   # the message still carries each failed node's last log lines
-    exc.args = tuple(a.replace(str(logs), str(kept)) if isinstance(a, str) else a
+        where = str(kept)
+    except OSError:   # a full disk: the message still carries each failed node's last lines
+        where = f"{kept} (copied only in part)"
+    exc.args = tuple(a.replace(str(logs), where) if isinstance(a, str) else a
                      for a in exc.args)
 
 
@@ -92,10 +93,12 @@ recorder, which subscribes once it has discovered each topic's publishers, last)
 
 def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=False,
               ready_timeout=READY_TIMEOUT_S, drain_timeout=30.0, finishers=(),
-              finish_timeout=300.0, namespace=None, pins=None):
+              finish_timeout=300.0, namespace=None, tests_total=None, pins=None):
     """Run ``specs`` until ``pacer`` exits 0 (and then every node in ``finishers``); returns a
     :class:`RunResult`. ``collect``: (topic, msg_type) pairs whose messages the monitor keeps
     (topics relative to ``namespace``, where every node runs: None or '/' for the root).
+    ``tests_total``: the bench tests the pacer plays (the progress bar counts them), else
+    the progress bar runs over ``duration_s`` of simulated time.
     ``pins``: {absolute path: SHA-256} of the inputs the launcher read; the nodes check what
     they read against them, and a pinned file that changed before the run ended fails it.
     """
@@ -112,8 +115,9 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
                 graph = NodeGraph(specs, lock.domain_id, work_dir, namespace, pins)
                 try:
                     graph.start()   # inside the try: a failure half-way stops what started
-                    collected = _monitor(graph, pacer, duration_s, collect, progress,
-                                         ready_timeout, (finishers, finish_timeout, drain_timeout))
+                    collected = _monitor(graph, pacer, (duration_s, tests_total), collect,
+                                         progress, ready_timeout,
+                                         (finishers, finish_timeout, drain_timeout))
                 except BaseException:
                     graph.stop()
                     raise
@@ -153,21 +157,23 @@ def check_peer_room(domain_id, ours):
         raise RunFailed(problem)
 
 
-def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending):
+def _monitor(graph, pacer, planned, collect, progress, ready_timeout, ending):
     import rclpy
     from rclpy.signals import SignalHandlerOptions
 
     from motoflex_ros.launcher.monitor import Monitor
     from motoflex_ros.nodes.endpoints import RunEndpoints
     context = rclpy.Context()
-    rclpy.init(args=[], context=context, domain_id=graph.domain_id,
-               signal_handler_options=SignalHandlerOptions.NO)
+    # no log file of this process in ~/.ros/log (the nodes' logs are the run's, in its folder)
+    rclpy.init(args=["--ros-args", "--disable-external-lib-logs"], context=context,
+               domain_id=graph.domain_id, signal_handler_options=SignalHandlerOptions.NO)
     try:
         monitor = Monitor(context, [s.name for s in graph.specs], collect,
                           RunEndpoints(graph.endpoints_dir), graph.namespace)
         finishers, finish_timeout, drain_timeout = ending
         monitor.wait_ready(graph, pacer, ready_timeout, finishers)
-        monitor.follow(graph, pacer, duration_s, progress, finishers)
+        duration_s, tests_total = planned
+        monitor.follow(graph, pacer, duration_s, progress, finishers, tests_total)
         monitor.wait_finishers(graph, (pacer, *finishers), finish_timeout)
         monitor.drain(graph, (pacer, *finishers), drain_timeout)
         return monitor.collected

@@ -27,6 +27,7 @@ bench/<bench>/{load, markers/measured, identify} (relative: in the node's namesp
 be set or remapped (``-r``).
 """
 import sys
+from dataclasses import replace
 
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, KeyValue
@@ -43,6 +44,16 @@ from motoflex_ros.nodes.conversions import (
     is_end_marker,
     sample_from_phase,
     time_msg,
+)
+from motoflex_ros.nodes.interfaces import (
+    ACK_OUT,
+    LATCHED,
+    LATCHED_LAST,
+    LOAD_IN,
+    PHASE_IN,
+    RELIABLE,
+    RIG_TOPICS,
+    Topic,
 )
 from motoflex_ros.nodes.load_actuator import may_end_test
 from motoflex_ros.nodes.measured_inputs import MEASURED_PARAMS, MeasuredInputs
@@ -67,6 +78,29 @@ class IdentificationNode(RigNode):
               description="virtual: the emulated bench in lock-step; measured: a real rig's "
                           "topics, no FE model"),
     ) + MEASURED_PARAMS
+    TOPICS = RIG_TOPICS + (
+        Topic("pub", RESULTS_TOPIC, "diagnostic_msgs/msg/DiagnosticArray", LATCHED,
+              "identified l, beta, b, k, c, J, k_t, k_b (one status per component, KeyValue "
+              "pairs), as each component ends"),
+        Topic("pub", "identification/{c}/l", "std_msgs/msg/Float64MultiArray", LATCHED_LAST,
+              "the identified joint distance l [m] of each estimate"),
+        Topic("pub", "identification/{c}/beta", "std_msgs/msg/Float64MultiArray",
+              LATCHED_LAST, "the identified axis angle beta [rad] of each estimate"),
+        Topic("pub", "identification/{c}/k", "std_msgs/msg/Float64MultiArray", LATCHED_LAST,
+              "the identified stiffness k [N m/rad] of each estimate"),
+        replace(PHASE_IN, when="mode virtual"), replace(LOAD_IN, when="mode virtual"),
+        Topic("sub", "bench/{c}/markers/measured", "geometry_msgs/msg/PoseArray", RELIABLE,
+              "measured marker positions [m]", when="mode virtual"),
+        replace(ACK_OUT, when="mode virtual"),
+        Topic("sub", "bench/<bench>/load (load_topic)", "geometry_msgs/msg/WrenchStamped",
+              "best effort or reliable (qos), keep all", "the load cell", when="mode measured"),
+        Topic("sub", "bench/<bench>/markers/measured (markers_topic)",
+              "geometry_msgs/msg/PoseArray (or per marker .../m1, /m2, ...: PointStamped or "
+              "PoseStamped, marker_msg)", "best effort or reliable (qos), keep all",
+              "the markers", when="mode measured"),
+        Topic("sub", "bench/<bench>/identify (identify_topic)", "std_msgs/msg/Empty",
+              "reliable, last 10", "identify what arrived so far", when="mode measured"),
+    )
 
     def __init__(self):
         self.live = None

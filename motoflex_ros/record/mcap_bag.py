@@ -32,7 +32,7 @@ from mcap.stream_reader import StreamReader, breakup_chunk
 from mcap.writer import CompressionType, Writer
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.files import atomic_write_bytes
+from motoflex_ros.files import atomic_write_bytes, file_kind, open_output
 
 __all__ = ["BagError", "TopicInfo", "BagInfo", "BagMessage", "BagWriter", "message_definition",
            "type_hash", "bag_info", "read_messages", "repair", "find_mcap", "METADATA_FILE",
@@ -159,7 +159,7 @@ class BagWriter:
         self.path = check_new_bag_dir(path)
         self.path.mkdir(parents=True, exist_ok=True)
         self.mcap_file = self.path / f"{self.path.name}_0.mcap"
-        self._stream = open(self.mcap_file, "wb")  # noqa: SIM115 (closed in close())
+        self._stream = open_output(self.mcap_file)   # closed in close(); errors name the file
         kinds = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4,
                  "none": CompressionType.NONE}
         self._writer = Writer(self._stream, chunk_size=chunk_size,
@@ -215,8 +215,10 @@ class BagWriter:
         if self.closed:
             return
         self.closed = True
-        self._writer.finish()
-        self._stream.close()
+        try:
+            self._writer.finish()
+        finally:
+            self._stream.close()   # also when the finish failed (a full disk): no open file
         topics = tuple(TopicInfo(t, self._types[t], self._counts[t], self._qos[t])
                        for t in self._channels)
         start = self._first or 0
@@ -259,14 +261,23 @@ def write_metadata(bag_dir, mcap_file, topics, start_ns, duration_ns):
 def find_mcap(path):
     """The MCAP file of a bag directory (or ``path`` itself if it is an .mcap file)."""
     path = Path(path)
-    if path.is_file() and path.suffix == ".mcap":
-        return path
+    if path.suffix == ".mcap" and path.exists() and not path.is_dir():
+        return _regular(path)
     if not path.is_dir():
         raise BagError(f"{path}: not a bag (no such directory or .mcap file)")
     files = sorted(p for p in path.glob("*.mcap") if not p.name.startswith("."))
     if len(files) != 1:
         raise BagError(f"{path}: not a bag (expected one .mcap file, found {len(files)})")
-    return files[0]
+    return _regular(files[0])
+
+
+def _regular(path):
+    """``path`` if it is a regular file (a FIFO, device or socket would block or never end
+    when read: refused before it is opened), else BagError."""
+    kind = file_kind(path.stat().st_mode)
+    if kind:
+        raise BagError(f"{path}: is {kind}, not a regular file: not a bag's MCAP file")
+    return path
 
 
 def _summary_crc_problem(stream):

@@ -28,20 +28,19 @@ Times are the header stamps (the rig's simulated time; the bag's log times are t
 wall clock); ``sim_time`` is measured from the earliest stamp, which is 0 for a simulated run.
 """
 import functools
-import json
 import re
-import sys
 from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
 import rerun as rr
-from tqdm import tqdm
 
 from motoflex_ros.bench.replay import recorded_samples, replayed_displacements, shipped_model
+from motoflex_ros.files import read_json
 from motoflex_ros.frames import BENCH_SPACING_M
+from motoflex_ros.progress import progress_bar
 from motoflex_ros.record import rerun_log as rl
-from motoflex_ros.record.mcap_bag import bag_info, read_messages
+from motoflex_ros.record.mcap_bag import BagError, bag_info, read_messages
 from motoflex_ros.record.rerun_bag_vehicle import (
     EIG_TOPIC,
     log_eig_file,
@@ -196,7 +195,10 @@ def _log_identification(rec, samples, t0, known, draw_axes):
 def _read_json(folder, *names):
     for name in names:
         if (folder / name).is_file():
-            return json.loads((folder / name).read_text(encoding="utf-8"))
+            try:
+                return read_json(folder / name)
+            except ValueError as exc:
+                raise BagError(f"{folder / name}: not a readable JSON file ({exc})") from None
     return None
 
 
@@ -275,7 +277,7 @@ def convert_bag(bag_dir, rrd_path=None, motorcycle=None, progress=False):
     """
     bag_dir = Path(bag_dir)
     info = bag_info(bag_dir)
-    bar = tqdm(total=5, desc="rerun", unit="step", disable=not progress, file=sys.stderr)
+    bar = progress_bar(total=5, desc="rerun", unit="step", enabled=progress)
     bar.set_postfix_str(f"reading {info.message_count} messages")
     grouped = _collect(bag_dir)
     t0 = min((t for samples in grouped.values() for t, _ in samples if t is not None),

@@ -30,11 +30,11 @@ up, symmetry plane x-z; Passigato et al. 2023, Sect. 4.2, Fig. 2); ``/bench/<c>`
 placement of O in the vehicle frame (REP-103).
 """
 import os
-from pathlib import Path
 
 import numpy as np
 import rerun as rr
 
+from motoflex_ros.files import check_output_path
 from motoflex_ros.report.geometry import axis_from_l_beta, axis_segment
 
 __all__ = ["TIMELINE", "RunRecording", "log_component_frame",
@@ -85,7 +85,7 @@ class RunRecording:
     """
 
     def __init__(self, rrd_path, run_name, layout=None):
-        self.path = Path(rrd_path)
+        self.path = check_output_path(rrd_path)   # a regular file or a new path, never a device
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._tmp = self.path.with_name(f".{self.path.name}.{os.getpid()}.tmp")
         self._layout = layout

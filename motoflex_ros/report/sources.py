@@ -12,10 +12,10 @@ import sys
 import time
 from dataclasses import dataclass, field
 
-from tqdm import tqdm
-
 from motoflex_ros.cli.output import atomic_write_text, emit_json
+from motoflex_ros.files import read_json
 from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
+from motoflex_ros.progress import progress_bar
 
 __all__ = ["Source", "SOURCES", "RunData", "load_run_data", "FIG9_VARIANTS"]
 
@@ -70,8 +70,8 @@ class RunData:
 
 def _read(path):
     try:
-        return json.loads(path.read_text(encoding="utf-8")), None
-    except (OSError, json.JSONDecodeError) as exc:
+        return read_json(path), None
+    except (OSError, ValueError) as exc:
         return None, f"{path.name} unreadable ({exc})"
 
 
@@ -156,8 +156,7 @@ def load_run_data(folder, compute=True, progress=True):
     if timings_path.is_file():
         run.campaign_timings, _ = _read(timings_path)
         run.campaign_timings = run.campaign_timings or {}
-    bar = tqdm(SOURCES, desc="report data", unit="source", disable=not progress,
-               file=sys.stderr)
+    bar = progress_bar(SOURCES, desc="report data", unit="source", enabled=progress)
     for source in bar:
         bar.set_postfix_str(source.name)
         start = time.perf_counter()

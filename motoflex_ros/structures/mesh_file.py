@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.files import missing_file_text
 from motoflex_ros.input_pins import note_input, read_input
 from motoflex_ros.structures.solid import SOLID_TYPES, SolidBlock
 
@@ -66,7 +67,7 @@ class MeshData:
 def _read(path, yaml_source, key):
     import meshio
     if not path.is_file():
-        raise ConfigError(yaml_source, key, f"mesh file not found: {path}")
+        raise ConfigError(yaml_source, key, f"mesh file {path}: {missing_file_text(path)}")
     if path.suffix.lower() not in MESH_SUFFIXES:
         raise ConfigError(yaml_source, key, f"{path}: unsupported mesh format "
                                             f"'{path.suffix}' (supported: "

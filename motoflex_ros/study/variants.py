@@ -15,6 +15,7 @@ identification, structures and vehicle meet; the vehicle itself only takes lumpe
 """
 import numpy as np
 
+from motoflex_ros.config import number_text, shown
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.results import results_source
@@ -96,11 +97,11 @@ def _need(identified, component, *keys):
     positive = name.startswith("k")           # stiffness [N m/rad]
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
         raise ConfigError(results_source(identified), path, f"expected a finite number, got "
-                                                          f"{value!r}")
+                                                          f"{shown(value)}")
     if (positive and value <= 0) or (name in ("J", "c") and value < 0):
         allowed = "> 0" if positive else ">= 0"
         raise ConfigError(results_source(identified), path,
-                          f"value {value:g} is out of the allowed range ({allowed})")
+                          f"value {number_text(value)} is out of the allowed range ({allowed})")
     return float(value)
 
 
