@@ -20,6 +20,7 @@ import yaml
 
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.files import missing_file_text
+from motoflex_ros.input_pins import read_input
 
 __all__ = ["MOTORCYCLE_COMPONENTS", "Field", "number", "positive", "angle", "validate",
            "load_yaml", "load_config", "config_path", "resolve_config", "shipped_configs",
@@ -288,7 +289,7 @@ def load_yaml(path):
         raise ConfigError(path, "", f"{size} bytes is too large for a configuration file "
                                     f"(at most {MAX_YAML_BYTES} bytes)")
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = read_input(path).decode("utf-8")
     except UnicodeDecodeError as exc:
         raise ConfigError(path, "", f"not a text YAML file (not UTF-8: byte "
                                     f"0x{exc.object[exc.start]:02x} at offset {exc.start})"

@@ -57,6 +57,14 @@ def _assert_same(live, offline, rel=1e-12, ci_rel=1e-12, principal_rel=1e-9):
             assert a == b, path
 
 
+def without_inputs(recorded):
+    """A campaign's identification.json without the SHA-256 of the files each component came
+    from (issue 23: ``inputs``, which an offline identification does not carry); asserts
+    that every component has them."""
+    assert all(len(r.get("inputs") or {}) >= 2 for r in recorded.values()), recorded.keys()
+    return {c: {k: v for k, v in r.items() if k != "inputs"} for c, r in recorded.items()}
+
+
 def interruptible():
     """Give the child SIGINT's default action: a test runner started in the background of a
     non-interactive shell ignores SIGINT, the campaign would inherit that, and the tests that
@@ -98,7 +106,12 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     assert made["command"].startswith("motoflex campaign") and str(bag) in made["command"]
     assert made["seed"] == 0 and list(made["sensor_noise_m"]) == [COMPONENT]
     assert made["command"] in html.unescape(report)
-    live = json.loads((bag / "identification.json").read_text())
+    recorded = json.loads((bag / "identification.json").read_text())
+    # issue 23, point 2: the run's inputs by SHA-256, and the identification's own record of
+    # the files it came from, the same hashes
+    assert made["inputs"] and all(len(h) == 64 for h in made["inputs"].values())
+    assert recorded[COMPONENT]["inputs"] == made["inputs"]
+    live = without_inputs(recorded)
     assert json.loads((bag / "status.json").read_text())["status"] == "complete"
     assert not (bag / ".identification.partial.json").exists()
     components, carried = carried_inertias([COMPONENT])
@@ -148,7 +161,7 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     assert info.count(f"/bench/{COMPONENT}/markers/true") == samples
     assert info.count(f"/bench/{COMPONENT}/markers/measured") == samples + 1  # + the flush
     assert info.count("/identification/results") == 1
-    _replay_reproduces(tmp_path, bag, live)
+    _replay_reproduces(tmp_path, bag, recorded)
 
 
 def _replay_reproduces(tmp_path, bag, live):

@@ -68,7 +68,8 @@ def run(args):
         outcome = run_campaign_graph(components, out, args.noise, args.seed, args.protocol,
                                      progress=True, namespace=args.namespace)
         write_provenance(outcome.bag, getattr(args, "argv", ["campaign"]), components,
-                         args.seed, args.noise, args.protocol, started)
+                         args.seed, args.noise, args.protocol, started, outcome.inputs,
+                         bag_info(outcome.bag).mcap_file)
         timings = {"graph": outcome.wall_s}
         written = _recording_and_report(outcome.bag, args.report, timings, progress=True)
     if args.json:

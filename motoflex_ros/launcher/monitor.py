@@ -66,8 +66,11 @@ class Monitor(Node):
                 return
             graph.check_alive(allowed=(pacer, *done))
             if time.monotonic() > deadline:
+                from motoflex_ros.launcher.run import peer_room_problem
                 missing = ", ".join(sorted(self.names - self.ready))
-                raise NodeDied(f"nodes not up after {timeout:g} s: {missing}")
+                full = peer_room_problem(graph.domain_id)   # joined by others meanwhile?
+                raise NodeDied(f"nodes not up after {timeout:g} s: {missing}"
+                               + (f"; likely cause: {full}" if full else ""))
             self.spin(0.1)
 
     def follow(self, graph, pacer, duration_s, progress, finishers=(), tests_total=None):

@@ -9,7 +9,8 @@ publishes them on /identification/results (diagnostic_msgs/DiagnosticArray, one 
 test, KeyValue values), the same k [N m/rad], l [m] and beta [rad] of the static, torsion and
 bending models as numbers a plot panel draws on /identification/<c>/{k, l, beta}
 (std_msgs/Float64MultiArray, latched) and, once every component is done, writes
-``result_file`` atomically.
+``result_file`` atomically; each component's entry says which files it came from ("inputs":
+{absolute path: SHA-256} of what its setup read, held to the run's pins).
 Loads and measured markers that are not finite, loads beyond the protocol's range and stamps
 that go back stop the node at that message (:mod:`.message_checks`), before the core sees it.
 
@@ -158,7 +159,8 @@ class IdentificationNode(RigNode):
     def _init_virtual(self):
         from motoflex_ros.bench.sensor import MarkerSensor
         from motoflex_ros.identify.identifier import Identifier
-        self.setups = campaign_setups(self.params)
+        self.inputs = {}
+        self.setups = campaign_setups(self.params, self.inputs)
         self.ENDS_ITSELF = self.params["exit_when_done"]   # a job to finish: replay --identify
         self.identifiers = {c: Identifier(s.reduced.q0, s.protocol.harmonic)
                             for c, s in self.setups.items()}
@@ -246,8 +248,10 @@ class IdentificationNode(RigNode):
                                       f"{result.split.info['split_problem']}")
         if len(self.results) == len(self.setups):
             if self.params["result_file"]:
-                write_results(self.params["result_file"],   # as ``motoflex identify --out``
-                              {c: self.results[c].to_dict() for c in self.setups})
+                # as ``motoflex identify --out``, with the hashes of the files each came from
+                write_results(self.params["result_file"],
+                              {c: {**self.results[c].to_dict(), "inputs": self.inputs[c]}
+                               for c in self.setups})
             self.finished = self.params["exit_when_done"]
 
 

@@ -309,6 +309,21 @@ def _init_ros(args):
         raise MotoflexError(f"cannot read the ROS arguments: {message}") from None
 
 
+def _unknown_arguments(args):
+    """A MotoflexError for command-line words outside ``--ros-args`` (a node takes none but
+    --help: ``identification --params-file p.yaml`` would otherwise run with its defaults)."""
+    from rclpy.utilities import remove_ros_args
+    try:
+        words = remove_ros_args(sys.argv if args is None else list(args))[1:]
+    except rclpy_implementation.RCLError:
+        return None   # ROS arguments rcl cannot parse: _init_ros says what is wrong
+    if words:
+        return MotoflexError(f"unknown argument '{words[0]}' (a node takes its settings "
+                             f"after --ros-args: --ros-args -p NAME:=VALUE or --params-file "
+                             f"FILE; --help lists them)")
+    return None
+
+
 def _help_asked(args):
     """Does the command line (not its ROS arguments) ask for -h / --help? (ROS arguments rcl
     cannot parse, e.g. a missing --params-file, are reported by :func:`_init_ros`.)"""
@@ -349,6 +364,9 @@ def run_node(node_class, args=None):
     profile = _profiler()
     try:
         configure_dds(os.environ)   # loopback unless MOTOFLEX_DDS=network (before rclpy.init)
+        unknown = _unknown_arguments(args)
+        if unknown is not None:
+            raise unknown
         _init_ros(args)
     except MotoflexError as exc:
         return _refuse(node_class, exc)

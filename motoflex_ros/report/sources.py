@@ -110,7 +110,24 @@ def _save(folder, source, data):
     atomic_write_text(folder / source.file, buffer.getvalue())
 
 
+def _not_the_runs(folder, source):
+    """Why ``source`` may not be computed for ``folder`` (None if it may): a recorded run
+    without its own identification.json gets no identification made up offline, neither the
+    identification itself nor anything built of it (issue 23, point 8)."""
+    from motoflex_ros.report.run_folder import RUN_RESULT, is_recorded_run
+    uses_identification = source.name == "identify" or IDENTIFIED in source.args
+    if uses_identification and is_recorded_run(folder) and not (folder / RUN_RESULT).is_file():
+        return (f"the run recorded no {RUN_RESULT}; an identification computed now would not "
+                f"be the run's (not computed)")
+    return None
+
+
 def _load_one(folder, source, compute, run):
+    refused = _not_the_runs(folder, source)
+    if refused:
+        run.missing[source.name] = refused
+        run.files[source.name] = source.file
+        return
     saved = [folder / n for n in (source.file, *source.aliases) if (folder / n).is_file()]
     run.files[source.name] = saved[0].name if saved else source.file
     if saved:

@@ -33,6 +33,7 @@ import scipy.sparse as sp
 from motoflex_ros.config import Field, validate
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.files import atomic_write_bytes, atomic_write_text, missing_file_text
+from motoflex_ros.input_pins import read_input
 from motoflex_ros.structures.assembly import AssembledStructure
 from motoflex_ros.structures.components import DEFAULT_DAMPING_RATIO, ComponentModel
 from motoflex_ros.structures.craig_bampton import CraigBamptonModel, checked_damping_ratio
@@ -172,8 +173,9 @@ def _matrix(path, source, key, size=None):
     if not path.is_file():
         raise ConfigError(source, key, f"matrix file {path}: {missing_file_text(path)}")
     _mtx_size(path, source, key)
+    data = read_input(path)   # checked against the run's pins
     try:
-        matrix = mmread(str(path))
+        matrix = mmread(io.BytesIO(data))
     except Exception as exc:   # scipy raises ValueError, OSError, IndexError...
         raise ConfigError(source, key, f"{path}: not a Matrix Market file ({exc})") from None
     matrix = matrix.toarray() if sp.issparse(matrix) else np.asarray(matrix, float)
