@@ -131,20 +131,20 @@ def test_nodes_refuse_unknown_command_line_arguments(tmp_path, node, args):
 
 def test_provenance_and_identification_name_the_inputs_hashes(tmp_path):
     """The campaign's pinned inputs: the shipped component and protocol files by SHA-256,
-    read once; the identification node's record of what it read is the same (no graph run:
-    the pinning of campaign_inputs and the node's own setup are compared directly)."""
-    from motoflex_ros.launcher.campaign import campaign_inputs
+    and the vehicle file whose carried inertia is the principal hinges' metric, read once; the
+    identification node's record of what it read is the same (no graph run: the pinning of
+    campaign_inputs and the node's own setup are compared directly)."""
+    from motoflex_ros.launcher.campaign import VEHICLE, campaign_inputs
     from motoflex_ros.nodes.bench_graph import campaign_setups
     _, pinned = campaign_inputs(["swingarm"])
     component = config_path("components", "swingarm")
     protocol = Path(str(component).replace("components", "protocols"))
     assert pinned == {str(p.resolve()): input_pins.sha256_bytes(p.read_bytes())
-                      for p in (component, protocol)}
+                      for p in (component, protocol, config_path("vehicles", VEHICLE))}
     read = {}
     campaign_setups({"components": ["swingarm"], "noise": -1.0, "protocol": ""}, read)
     assert read == {"swingarm": pinned}
-    # with all three components the vehicle's file is pinned too
-    from motoflex_ros.launcher.campaign import VEHICLE
+    # with all three components (the vehicle simulator runs) the vehicle's file is pinned too
     _, everything = campaign_inputs(["frame", "front_assembly", "swingarm"])
     assert str(config_path("vehicles", VEHICLE).resolve()) in everything
     assert json.loads(json.dumps(everything)) == everything

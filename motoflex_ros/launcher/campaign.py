@@ -133,12 +133,16 @@ def planned_run(components, noise=None, protocol=None):
 def campaign_inputs(components, noise=None, protocol=None):
     """(:func:`planned_run`'s (duration [s], tests), {absolute path: SHA-256} of every file
     the campaign's nodes read): each component, its protocol and the files they name, the
-    vehicle when it runs; read here once, so that the nodes can be held to the same bytes."""
+    vehicle when it runs or when a component's principal hinges take their metric from it (as
+    the identification node's :func:`~motoflex_ros.nodes.bench_graph.campaign_setups` does);
+    read here once, so that the nodes can be held to the same bytes."""
     from motoflex_ros.config import resolve_config
     from motoflex_ros.input_pins import recording_inputs
+    from motoflex_ros.study.variants import carried_inertias
     from motoflex_ros.vehicle.model import load_vehicle
     with recording_inputs() as inputs:
         planned = planned_run(components, noise, protocol)
+        carried_inertias(components)
         if with_vehicle(components):
             load_vehicle(resolve_config("vehicles", VEHICLE))
     return planned, inputs
