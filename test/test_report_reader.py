@@ -1,9 +1,9 @@
 """The report as a chassis engineer reads it (issue 16, point 7), on the recorded example run.
 
-bags/example is copied to a temporary folder (nothing in bags/ is written) with the
-provenance.json a campaign writes now (the example predates it), and `motoflex report` is run
-on the copy. The HTML is parsed back: ids unique, provenance equal to the run's status.json,
-metadata.yaml and provenance.json (and 'not recorded' where the run has no record), the
+bags/example is copied to a temporary folder (nothing in bags/ is written) with a
+provenance.json of another command and seed (its own inputs and bag kept), and
+`motoflex report` is run on the copy. The HTML is parsed back: ids unique, provenance equal
+to the run's status.json, metadata.yaml and provenance.json (and 'not recorded' where the run has no record), the
 identified motorcycle named in the stability section, deviations from Table 2 beyond the stated
 threshold flagged, no timing rows of zeros, no figure wider than the page, beta in degrees.
 The figures themselves are checked on their matplotlib objects: distinct axis styles, no text
@@ -30,8 +30,10 @@ MAX_DOWNSCALE = 1.0
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
-    def with_provenance(folder):
-        write_provenance(folder, ARGV, list(COMPONENTS), 3, 2e-5, None, 1_796_168_200.0)
+    def with_provenance(folder):   # the run's own inputs and bag, another command and seed
+        recorded = json.loads((folder / "provenance.json").read_text())
+        write_provenance(folder, ARGV, list(COMPONENTS), 3, 2e-5, None, 1_796_168_200.0,
+                         recorded["inputs"], folder / recorded["bag"]["file"])
     folder = example_report(tmp_path_factory.mktemp("runs"), with_provenance)
     return folder, parse_report(folder / "report.html")
 
@@ -138,9 +140,13 @@ def test_report_figures_are_not_shrunk(run):
 
 
 def test_report_beta_in_degrees_and_defined(run):
-    _, page = run
+    folder, page = run
     angles = [(a, t) for a, t in page.cells if a.get("data-shown-unit") == "deg"]
-    assert len(angles) == 9
+    identified = json.loads((folder / "identification.json").read_text())
+    hinges = sum(len(r["principal"]["hinges"]) for r in identified.values()
+                 if r["principal"]["identified"])
+    assert hinges == 5   # frame 1 (its metric has one direction), front assembly 2, swingarm 2
+    assert len(angles) == 3 * len(COMPONENTS) + hinges   # static, torsion, bending + hinges
     for attrs, text in angles:
         assert attrs["data-path"].endswith("/beta")
         assert float(text) == pytest.approx(np.degrees(float(attrs["data-value"])), abs=0.006)

@@ -96,7 +96,9 @@ def test_replayed_loaded_end_equals_simulator_markers_roundtrip(replayed):
     reduced = component.clamped_reduced()
     q0 = np.asarray(reduced.q0, float)
     truth = _true_end_displacements(bag, q0)
-    loads = sorted((t, m.wrench.force.y) for t, m in _stamped(bag, "/bench/frame/load").items())
+    loads = sorted((t, np.array([m.wrench.force.x, m.wrench.force.y, m.wrench.force.z,
+                                 m.wrench.torque.x, m.wrench.torque.y, m.wrench.torque.z]))
+                   for t, m in _stamped(bag, "/bench/frame/load").items())   # moment tests too
     phases = [decode(m).data for m in read_messages(bag, ["/bench/frame/phase"])]
     replay = recorded_samples(phases, loads)
     assert replay.labelled
