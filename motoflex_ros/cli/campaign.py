@@ -105,9 +105,18 @@ def _recording_and_report(bag, mode, timings, progress):
     written.insert(0, timings_file)
     if mode != "none":
         from motoflex_ros.report.build import build_report
-        report, _ = build_report(Path(bag), compute=mode == "full", progress=progress)
+        report, _ = build_report(Path(bag), compute=mode == "full", progress=progress,
+                                 outcome=_graph_outcome())
         written.append(report)
     return written
+
+
+def _graph_outcome():
+    """The run's outcome as the report states it: the report is the last result written
+    before status.json ("complete"); if it cannot be written the run fails and loses it."""
+    return {"status": "complete", "reason": None,
+            "time_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+            "source": "motoflex campaign: every node finished; status.json follows this report"}
 
 
 def _table(results):
