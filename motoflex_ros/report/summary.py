@@ -20,10 +20,9 @@ from motoflex_ros.vehicle.variants import variant_label
 __all__ = ["summary_parts", "K_SPLIT_REASON", "run_outcome_text"]
 
 K_SPLIT_REASON = (
-    "k_t and k_b are not compared with the finite-element model and differ from Table 2 "
-    "even where k agrees, systematically: eq. 12b splits k along the torsion and bending axes "
-    "identified on our components, and those axes (l, \u03b2 in the identification table) "
-    "differ from the paper's components', so the split does too.")
+    "k_t and k_b differ from Table 2 even where k agrees, and systematically so: eq. 12b "
+    "splits k along the torsion and bending axes identified on our components (their l and "
+    "\u03b2), which differ from the paper's components' axes, so the split differs too.")
 
 
 def run_outcome_text(folder, outcome=None):
