@@ -9,9 +9,8 @@ eigenvalue views queried '/vehicle/eigenvalues/*/real_part', which matches nothi
 """
 from pathlib import Path
 
-import pytest
-
 import numpy as np
+import pytest
 
 from motoflex_ros.record.rerun_readback import (
     blueprint_views,

@@ -18,7 +18,7 @@ from motoflex_ros.record.rerun_log import IDENTIFIED_QUANTITIES, TIMELINE, quant
 from motoflex_ros.record.rerun_motorcycle import MODE_SPACING_M
 from motoflex_ros.record.rerun_vehicle import STABILITY_QUANTITIES
 
-__all__ = ["default_blueprint", "TRACKED_BODY"]
+__all__ = ["default_blueprint", "default_tabs", "viewer_panels", "tab_views", "TRACKED_BODY"]
 
 TRACKED_BODY = "frame"
 """The road test's body the 3D vehicle view's camera follows."""
@@ -129,10 +129,27 @@ def default_blueprint(entity_paths, active_tab=0):
     which every view shows data (the modes are animated over it too; the speed bar charts and
     tables are static).
     """
+    return rrb.Blueprint(rrb.Tabs(*default_tabs(entity_paths), active_tab=active_tab),
+                         *viewer_panels())
+
+
+def default_tabs(entity_paths):
+    """The tabs (rerun containers) of :func:`default_blueprint`: Bench, Identification,
+    Vehicle, those with data."""
     paths = set(entity_paths)
-    tabs = [tab for tab in (_bench_tab(paths), _identification_tab(paths), _vehicle_tab(paths))
+    return [tab for tab in (_bench_tab(paths), _identification_tab(paths), _vehicle_tab(paths))
             if tab is not None]
-    return rrb.Blueprint(rrb.Tabs(*tabs, active_tab=active_tab),
-                         rrb.BlueprintPanel(state="collapsed"),
-                         rrb.SelectionPanel(state="collapsed"),
-                         rrb.TimePanel(timeline=TIMELINE, state="expanded"))
+
+
+def viewer_panels():
+    """The side panels collapsed and the time panel expanded on ``sim_time``: the timeline
+    the viewer opens on."""
+    return (rrb.BlueprintPanel(state="collapsed"), rrb.SelectionPanel(state="collapsed"),
+            rrb.TimePanel(timeline=TIMELINE, state="expanded"))
+
+
+def tab_views(tab):
+    """Every view inside the container ``tab``, depth first."""
+    if isinstance(tab, rrb.View):
+        return [tab]
+    return [v for part in tab.contents for v in tab_views(part)]
