@@ -107,13 +107,23 @@ def _show(stream, view):
     stream.flush()
 
 
-def _poll(browser, limit_s, text):
+def _blank(png):
+    """The blank view: drawn, with neither data nor text."""
+    return drawn(png) and not shows_data(png) and not shows_data(png, text=True)
+
+
+def _poll(browser, limit_s, done):
     deadline = time.monotonic() + limit_s
     png = browser.screenshot()
-    while not shows_data(png, text) and time.monotonic() < deadline:
-        time.sleep(3.0)
+    while not done(png) and time.monotonic() < deadline:
+        time.sleep(2.0)
         png = browser.screenshot()
     return png
+
+
+BLANK = rrb.TextDocumentView(origin="/no/such/entity", name="blank")
+"""Shown before every view, until the screen is blank: the next screenshot with data is then
+the new view's, not the previous one's still on the screen."""
 
 
 @pytest.mark.slow
@@ -133,9 +143,11 @@ def test_every_view_of_every_tab_shows_data_on_the_opening_timeline(served):
     try:
         browser.open(address)
         for k, (tab, view) in enumerate(views):
+            _show(stream, BLANK)
+            assert _blank(_poll(browser, LOAD_LIMIT_S if k == 0 else VIEW_LIMIT_S, _blank))
             _show(stream, view)
             text = isinstance(view, rrb.TextDocumentView)
-            png = _poll(browser, LOAD_LIMIT_S if k == 0 else VIEW_LIMIT_S, text)
+            png = _poll(browser, VIEW_LIMIT_S, lambda png, text=text: shows_data(png, text))
             shots[f"{k:02d}_{tab}"] = png
             if not shows_data(png, text):
                 empty.append((tab, str(view.name), data_pixels(png)))
@@ -144,8 +156,7 @@ def test_every_view_of_every_tab_shows_data_on_the_opening_timeline(served):
         control = rrb.TimeSeriesView(origin="/vehicle/eigenvalues", name="control",
                                      plot_legend=rrb.PlotLegend(visible=False))
         _show(stream, control)
-        time.sleep(15.0)
-        control_png = browser.screenshot()
+        control_png = _poll(browser, 20.0, lambda png: drawn(png) and data_pixels(png)[1] > 100)
     finally:
         browser.close()
         stream.disconnect()
