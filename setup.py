@@ -5,8 +5,8 @@ from setuptools import find_packages, setup
 
 PACKAGE = "motoflex_ros"
 
-# Pins of the ROS 2 Jazzy PyPI wheels (see README, "Installing"). Kept out of install_requires:
-# a colcon user gets rclpy and the message packages from the ROS distribution instead.
+# Pins of the ROS 2 Jazzy PyPI wheels (docs/virtual-bench.md, "Installing"). Kept out of
+# install_requires: a colcon user gets rclpy and the messages from the ROS distribution instead.
 ROS_JAZZY_WHEELS = [
     "ros-rclpy==7.1.6",
     "ros-rmw-fastrtps-cpp==8.4.3",
@@ -27,7 +27,10 @@ setup(
     packages=find_packages(exclude=["test", "test.*"]),
     package_data={PACKAGE: ["config/*/*.yaml", "config/*/*.xml", "config/components/mesh/*.yaml",
                             "config/components/mesh/*.msh"]},
-    include_package_data=True,
+    # the data is listed above; include_package_data would also take every file of the
+    # manifest and warn "Package would be ignored" for each config/ folder (importable as a
+    # namespace package motoflex_ros.config.*) in every colcon build
+    include_package_data=False,
     data_files=[
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
         ("share/" + PACKAGE, ["package.xml"]),
@@ -61,7 +64,7 @@ setup(
         # gmsh: a hollow tube meshed as an engineer's FE tool does (test_mesh_gmsh.py)
         # pytest-xdist: ./test.sh runs the suite on two workers (test/conftest.py groups it)
         "test": ["pytest>=8", "ruff>=0.6", "pytest-benchmark>=4", "pillow>=10", "sympy>=1.12",
-                 "gmsh>=4.11", "pytest-xdist>=3.5"],
+                 "gmsh>=4.11", "pytest-xdist>=3.5", "mkdocs>=1.6", "mkdocs-material>=9.5"],
     },
     zip_safe=True,
     maintainer="motoflex_ros developers",

@@ -50,7 +50,7 @@ def _graph(context):
     specs = campaign_specs(value["components"].split(","), value["out"],
                            None if noise < 0 else noise, int(value["seed"]))
     params_dir = Path(tempfile.mkdtemp(prefix="motoflex_launch_"))
-    actions = []
+    actions, names = [], []
     for spec in specs:
         params = {k: list(v) if isinstance(v, tuple) else v for k, v in spec.params.items()}
         path = params_dir / f"{spec.name}.yaml"
@@ -61,11 +61,13 @@ def _graph(context):
                                            *namespace_args(value["namespace"]),
                                            "--params-file", str(path)],
                                       name=spec.name, output="screen", sigterm_timeout="10"))
-    last = next(a for a in actions if a.name == "load_actuator")
-    if any(a.name == "vehicle_simulator" for a in actions):
-        last = next(a for a in actions if a.name == "vehicle_simulator")
+        names.append(spec.name)
+    # ExecuteProcess.name is a list of substitutions (launch 3.x), never equal to a str: the
+    # process that ends the launch is found by the names kept here
+    last = "vehicle_simulator" if "vehicle_simulator" in names else "load_actuator"
     actions.append(RegisterEventHandler(OnProcessExit(
-        target_action=last, on_exit=[EmitEvent(event=Shutdown(reason="campaign done"))])))
+        target_action=actions[names.index(last)],
+        on_exit=[EmitEvent(event=Shutdown(reason="campaign done"))])))
     return actions
 
 

@@ -11,6 +11,7 @@ a colcon install, a pip install and an editable install alike.
 """
 import math
 import re
+import reprlib
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -18,10 +19,12 @@ from pathlib import Path
 import yaml
 
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.files import missing_file_text
+from motoflex_ros.input_pins import read_input
 
 __all__ = ["MOTORCYCLE_COMPONENTS", "Field", "number", "positive", "angle", "validate",
            "load_yaml", "load_config", "config_path", "resolve_config", "shipped_configs",
-           "MAX_YAML_BYTES"]
+           "MAX_YAML_BYTES", "MAX_ALIAS_VALUES", "shown", "number_text"]
 
 _INF = math.inf
 
@@ -69,11 +72,30 @@ def angle(low_deg=-180.0, high_deg=180.0, **kw):
     return Field("float", low_deg, high_deg, **kw)
 
 
+_SHORT = reprlib.Repr()
+_SHORT.maxlevel, _SHORT.maxlist, _SHORT.maxdict, _SHORT.maxstring, _SHORT.maxother = \
+    2, 4, 4, 60, 60
+
+
+def shown(value):
+    """``repr(value)`` cut short (at most a few items, two levels, 60 characters a string):
+    what an error message quotes of a value, never the whole of a huge or recursive one."""
+    return _SHORT.repr(value)
+
+
+def number_text(value):
+    """``value`` with as many digits as it needs to be read back exactly, shortest form:
+    0.49999999 stays 0.49999999 (``:g`` would print 0.5), 2.1e11 stays 2.1e+11."""
+    value = float(value)
+    short = f"{value:g}"
+    return short if float(short) == value else repr(value)
+
+
 def _range_text(spec):
     lo = "[" if not spec.open_low else "("
     hi = "]" if not spec.open_high else ")"
-    low = "-inf" if spec.low == -_INF else f"{spec.low:g}"
-    high = "inf" if spec.high == _INF else f"{spec.high:g}"
+    low = "-inf" if spec.low == -_INF else number_text(spec.low)
+    high = "inf" if spec.high == _INF else number_text(spec.high)
     if spec.low == -_INF:
         lo = "("
     if spec.high == _INF:
@@ -84,7 +106,7 @@ def _range_text(spec):
 def _check_number(value, spec, source, key):
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ConfigError(source, key, f"expected a number in {_range_text(spec)}, "
-                                       f"got {type(value).__name__} {value!r}")
+                                       f"got {type(value).__name__} {shown(value)}")
     try:
         value = float(value)
     except OverflowError:   # a whole number with hundreds of digits
@@ -95,7 +117,7 @@ def _check_number(value, spec, source, key):
     too_low = value < spec.low or (spec.open_low and value == spec.low)
     too_high = value > spec.high or (spec.open_high and value == spec.high)
     if too_low or too_high:
-        raise ConfigError(source, key, f"value {value:g} is out of the allowed range "
+        raise ConfigError(source, key, f"value {number_text(value)} is out of the allowed range "
                                        f"{_range_text(spec)}")
     return value
 
@@ -153,11 +175,12 @@ def validate(value, spec, source, key=""):
         return value
     if spec.kind == "bool":
         if not isinstance(value, bool):
-            raise ConfigError(source, key, f"expected true or false, got {value!r}")
+            raise ConfigError(source, key, f"expected true or false, got {shown(value)}")
         return value
     if spec.kind == "vec3":
         if not isinstance(value, list) or len(value) != 3:
-            raise ConfigError(source, key, f"expected a list of 3 numbers [m], got {value!r}")
+            raise ConfigError(source, key, f"expected a list of 3 numbers [m], got "
+                                           f"{shown(value)}")
         elem = Field("float", spec.low, spec.high, spec.open_low, spec.open_high)
         return [_check_number(v, elem, source, f"{key}[{i}]") for i, v in enumerate(value)]
     if spec.kind == "mapping":
@@ -179,6 +202,45 @@ _Loader.add_implicit_resolver(
 
 MAX_YAML_BYTES = 1_000_000
 """Largest configuration file read [bytes] (the shipped ones are below 20 kB)."""
+
+MAX_ALIAS_VALUES = 100_000
+"""Most values aliases (``*name``) may add to a configuration file when expanded; a 600-byte
+file of nested aliases otherwise stands for billions of values (an alias bomb)."""
+
+
+def _check_aliases(root, source):
+    """ConfigError when the aliases of the composed YAML node tree ``root`` expand to more than
+    MAX_ALIAS_VALUES values beyond the file's own, or an alias refers to the value that holds
+    it (a loop). Each node is counted once (linear in the file, whatever the expansion)."""
+    sizes, stack = {}, [(root, False)]
+    while stack:
+        node, children_done = stack.pop()
+        if children_done:
+            children = _children(node)
+            sizes[id(node)] = 1 + sum(sizes[id(c)] for c in children)
+            continue
+        if id(node) in sizes:
+            if sizes[id(node)] is None:   # still being counted: the node contains itself
+                mark = node.start_mark
+                raise ConfigError(source, "", f"the value at line {mark.line + 1} column "
+                                              f"{mark.column + 1} contains itself through an "
+                                              f"alias (a loop)")
+            continue
+        sizes[id(node)] = None
+        stack.append((node, True))
+        stack.extend((c, False) for c in _children(node))
+    extra = sizes[id(root)] - len(sizes)
+    if extra > MAX_ALIAS_VALUES:
+        raise ConfigError(source, "", f"its aliases (*name) expand to {extra:,} more values, "
+                                      f"above the limit of {MAX_ALIAS_VALUES:,} (an alias bomb?)")
+
+
+def _children(node):
+    if isinstance(node, yaml.MappingNode):
+        return [n for pair in node.value for n in pair]
+    if isinstance(node, yaml.SequenceNode):
+        return list(node.value)
+    return []
 
 
 def _check_duplicate_keys(node, source, key="", seen=None):
@@ -221,13 +283,13 @@ def load_yaml(path):
     become a ConfigError naming the file."""
     path = Path(path)
     if not path.is_file():
-        raise ConfigError(path, "", "file not found")
+        raise ConfigError(path, "", missing_file_text(path))
     size = path.stat().st_size
     if size > MAX_YAML_BYTES:
         raise ConfigError(path, "", f"{size} bytes is too large for a configuration file "
                                     f"(at most {MAX_YAML_BYTES} bytes)")
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = read_input(path).decode("utf-8")
     except UnicodeDecodeError as exc:
         raise ConfigError(path, "", f"not a text YAML file (not UTF-8: byte "
                                     f"0x{exc.object[exc.start]:02x} at offset {exc.start})"
@@ -236,6 +298,7 @@ def load_yaml(path):
     try:
         node = loader.get_single_node()
         if node is not None:
+            _check_aliases(node, path)
             _check_duplicate_keys(node, path)
             data = loader.construct_document(node)
         else:
@@ -273,7 +336,7 @@ def resolve_config(kind, name_or_file):
     candidate = Path(name_or_file)
     if candidate.suffix in (".yaml", ".yml") or candidate.exists():
         if not candidate.is_file():
-            raise ConfigError(candidate, "", "file not found")
+            raise ConfigError(candidate, "", missing_file_text(candidate))
         return candidate
     path = config_path(kind, name_or_file)
     if not path.is_file():

@@ -177,7 +177,7 @@ MORE_CASES = {
     "node_coordinate_1e300": Case(COMPONENTS + (ref(FRAME),), frame(
         ("steering_head: [0.6216", "steering_head: [1.0e300")), FRAME, "nodes.steering_head[0]"),
     "component_is_a_directory": Case(COMPONENTS + ("{dir.yaml}",), {"dir.yaml/x": "a: 1"},
-                                     "dir.yaml", "not found"),
+                                     "dir.yaml", "is a directory, not a regular file"),
     "protocol_duplicate_key": Case(IDENTIFY_TUBE, protocol(
         ("force_n: 100.0", "force_n: 100.0\n  force_n: 200.0")), PROTO, "static.force_n"),
     "protocol_top_level_list": Case(IDENTIFY_TUBE, {PROTO: "- 1\n- 2\n"}, PROTO, "top level"),
@@ -463,13 +463,13 @@ def test_identify_out_onto_an_existing_file_needs_force(tmp_path):
     assert '"tube"' in out.read_text()
 
 
-@pytest.mark.parametrize("argv", [["replay", "BAG", "--identify", "OUT"],
-                                  ["rerun", "BAG", "--out", "OUT"]])
+@pytest.mark.parametrize("argv", [["replay", "BAG", "--identify", "OUT.json"],
+                                  ["rerun", "BAG", "--out", "OUT.rrd"]])
 def test_other_outputs_onto_an_existing_file_need_force(tmp_path, argv):
     (tmp_path / "BAG").mkdir()
-    out = tmp_path / "OUT"
+    out = tmp_path / argv[-1]
     out.write_text("keep")
-    argv = [str(tmp_path / a) if a in ("BAG", "OUT") else a for a in argv]
+    argv = [str(tmp_path / a) if a in ("BAG", out.name) else a for a in argv]
     result = subprocess.run(CLI + argv, capture_output=True, text=True, timeout=30)
     assert result.returncode == 2 and "exists; give --force" in result.stderr, result.stderr
     assert out.read_text() == "keep"
@@ -495,7 +495,7 @@ def test_failed_campaign_leaves_no_temporary_folder_and_keeps_its_logs(tmp_path,
                         f"{Path(work_dir) / 'log' / 'identification.log'}")
 
     monkeypatch.setattr(campaign, "run_graph", failing_run)
-    monkeypatch.setattr(campaign, "planned_duration", lambda *a: 1.0)
+    monkeypatch.setattr(campaign, "planned_run", lambda *a: (1.0, 1))
     bag = tmp_path / "bag"
     with pytest.raises(RunFailed) as info:
         campaign.run_campaign_graph(["tube"], bag)

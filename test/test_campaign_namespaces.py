@@ -15,7 +15,12 @@ import sys
 import pytest
 
 pytest.importorskip("rclpy")
-from test_campaign_graph import COMPONENT, _assert_same, interruptible  # noqa: E402
+from test_campaign_graph import (  # noqa: E402
+    COMPONENT,
+    _assert_same,
+    interruptible,
+    without_inputs,
+)
 
 from motoflex_ros.cli.output import to_jsonable  # noqa: E402
 from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
@@ -26,6 +31,7 @@ pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
 def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
     from motoflex_ros.bench.campaign import identify_components
+    from motoflex_ros.study.variants import carried_inertias
     with DomainLock() as free:
         domain = free.domain_id
     # hold the id shared (as a namespaced run does) so that no root-namespace run takes it
@@ -38,14 +44,17 @@ def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
              "none"], env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
             preexec_fn=interruptible) for ns in ("rig_a", "rig_b")}
         outputs = {ns: proc.communicate(timeout=900) for ns, proc in runs.items()}
+    components, carried = carried_inertias([COMPONENT])   # as the graph's (issue 22)
     offline = {n: to_jsonable(r.identification.to_dict())
-               for n, (_, r) in identify_components([COMPONENT], seed=0).items()}
+               for n, (_, r) in identify_components(components, seed=0,
+                                                    carried=carried).items()}
     for ns, proc in runs.items():
         _, err = outputs[ns]
         assert proc.returncode == 0, err
         said = re.search(r"ROS_DOMAIN_ID (\d+) \(from ROS_DOMAIN_ID\), namespace /(\w+)", err)
         assert said and said.groups() == (str(domain), ns), err
-        _assert_same(json.loads((tmp_path / ns / "identification.json").read_text()), offline)
+        _assert_same(without_inputs(json.loads((tmp_path / ns / "identification.json")
+                                               .read_text())), offline)
         topics = {t.name for t in mcap_bag.bag_info(tmp_path / ns).topics}
         assert f"/bench/{COMPONENT}/load" in topics and "/tf_static" in topics
         assert not any(t.startswith(("/rig_a", "/rig_b")) for t in topics), topics

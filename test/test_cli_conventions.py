@@ -2,6 +2,7 @@
 flags, defaults stated in --help; the older forms keep working with a deprecation warning."""
 import argparse
 import json
+import re
 
 import numpy as np
 import pytest
@@ -19,16 +20,22 @@ def _leaf_parsers(parser, path=()):
 
 
 def test_every_default_is_stated_in_help():
-    unstated = []
+    """Options that take a value state their default; a flag (no value: store_true,
+    store_false) is off unless given and shows no "(default: True)" (issue 24, point 9)."""
+    unstated, flags = [], []
     for path, parser in _leaf_parsers(build_parser()):
         for action in parser._actions:
             if not action.option_strings or action.help in (None, argparse.SUPPRESS):
+                continue
+            if action.nargs == 0:
+                if re.search(r"\(default: (True|False)\)", action.help):
+                    flags.append((" ".join(path), action.option_strings[0]))
                 continue
             if action.default in (None, False, [], argparse.SUPPRESS):
                 continue
             if "default" not in action.help.lower():
                 unstated.append((" ".join(path), action.option_strings[0]))
-    assert unstated == []
+    assert unstated == [] and flags == []
 
 
 def test_list_options_are_repeatable_everywhere():

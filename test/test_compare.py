@@ -45,3 +45,24 @@ def test_compare_flags_and_refuses(tmp_path, capsys):
     (tmp_path / "c.json").write_text(json.dumps({"tube": {"k": 1}}))
     assert main(["compare", str(tmp_path / "a.json"), str(tmp_path / "c.json")]) == 2
     assert "key 'tube'" in capsys.readouterr().err
+
+
+def test_compare_lists_the_principal_hinges(tmp_path, capsys):
+    """Issue 22: the principal hinges compared in their order; one side not identified."""
+    a = _result(100.0, 98.04, 101.96)
+    hinge = {key: a["static"][key] for key in ("l", "beta", "b", "k", "c")}
+    a["principal"] = {"identified": True, "hinges": [dict(hinge, ci=a["static"]["ci"]),
+                                                     dict(hinge, k=50.0, ci={})]}
+    b = _result(103.0, 99.08, 106.92)
+    b["principal"] = {"identified": True, "hinges": [dict(hinge, k=103.0,
+                                                          ci=b["static"]["ci"])]}
+    (tmp_path / "a.json").write_text(json.dumps({"swingarm": a}))
+    (tmp_path / "b.json").write_text(json.dumps({"swingarm": b}))
+    assert main(["compare", str(tmp_path / "a.json"), str(tmp_path / "b.json"), "--json"]) == 0
+    rows = [r for r in json.loads(capsys.readouterr().out) if r["model"].startswith("principal")]
+    assert [(r["model"], r["quantity"]) for r in rows] == [
+        (f"principal {i}", q) for i in (1, 2) for q in ("l", "beta", "b", "k", "c")]
+    k1 = next(r for r in rows if r["model"] == "principal 1" and r["quantity"] == "k")
+    assert k1["z"] == pytest.approx(-3.0 / 5**0.5, rel=1e-3)
+    k2 = next(r for r in rows if r["model"] == "principal 2" and r["quantity"] == "k")
+    assert k2["a"] == 50.0 and k2["b"] is None and k2["z"] is None

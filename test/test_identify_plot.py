@@ -30,3 +30,31 @@ def test_plot_component_axes_writes_png(tmp_path):
     result = run_campaign(setup).identification.to_dict()
     path = plot_component_axes(setup.component, result, tmp_path / "swingarm_axes.png")
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_principal_axes_drawn_beside_the_papers():
+    """Issue 22: the principal hinges' axes are drawn with the static, torsion and bending
+    ones, each on its own (l, beta) line."""
+    import matplotlib.pyplot as plt
+
+    from motoflex_ros.bench.campaign import identify_components
+    from motoflex_ros.plots.axes import axes_figure, axis_segment, drawn_axes
+    from motoflex_ros.study.variants import carried_inertias
+    components, carried = carried_inertias(["swingarm"])
+    setup, run = identify_components(components, noise_m=0.0, carried=carried)["swingarm"]
+    result = run.identification.to_dict()
+    drawn = drawn_axes(result)
+    assert list(drawn) == ["static", "torsion", "bending", "principal 1", "principal 2"]
+    fig = axes_figure(setup.component, result)
+    try:
+        lines = {line.get_label().split(" axis")[0]: line for line in fig.axes[0].lines}
+        for name in ("principal 1", "principal 2"):
+            hinge = drawn[name]
+            seg = axis_segment(hinge["l"], hinge["beta"], setup.reduced.q0, 1.0)
+            xs, zs = lines[name].get_data()
+            direction = (seg[1] - seg[0]) / np.linalg.norm(seg[1] - seg[0])
+            for x, z in zip(xs, zs):   # the drawn points lie on the hinge's line
+                offset = np.array([x, z]) - seg[0]
+                assert abs(offset[0] * direction[1] - offset[1] * direction[0]) < 1e-9
+    finally:
+        plt.close(fig)

@@ -15,6 +15,8 @@ from motoflex_ros.launcher.monitor import Monitor  # noqa: E402
 class FakeGraph:
     """Exit codes appear after a number of polls, like processes ending."""
 
+    domain_id = 232   # the largest ROS domain id: no DDS participant of this machine in it
+
     def __init__(self, ends):
         self.ends = ends      # name -> (poll at which it exits, exit code)
         self.polls = 0

@@ -13,9 +13,10 @@ import pytest
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.identify.axis import axis_stiffness
+from motoflex_ros.identify.principal import principal_hinges
 from motoflex_ros.structures.components import load_component
 from motoflex_ros.study import variants
-from motoflex_ros.study.variants import build_variant
+from motoflex_ros.study.variants import build_variant, carried_by_component
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
@@ -55,9 +56,20 @@ def fe_identification(reduced):
     return result
 
 
+def fe_principal(reduced, carried):
+    """The principal hinges of the FE model's end compliance (no bench) in the metric of what
+    the loaded end carries in the vehicle."""
+    c = np.column_stack([reduced.static_end_motion(w)[[1, 3, 5]] for w in np.eye(6)[[1, 3, 5]]])
+    _, rows = principal_hinges(0.5 * (c + c.T), carried.metric(reduced.q0), reduced.q0)
+    return {"identified": True, "hinges": [dict(zip(("l", "beta", "b", "k"), map(float, r)))
+                                           for r in rows]}
+
+
 @pytest.fixture(scope="module")
-def identified(components):
-    return {name: fe_identification(red) for name, (_, _, red) in components.items()}
+def identified(vehicle, components):
+    carried = carried_by_component(vehicle, {n: comp for n, (comp, _, _) in components.items()})
+    return {name: {**fe_identification(red), "principal": fe_principal(red, carried[name])}
+            for name, (_, _, red) in components.items()}
 
 
 def variant_model(vehicle, components, identified, variant, names, scale=1.0):
@@ -87,7 +99,7 @@ def test_totals_equal_rigid_roundtrip(vehicle, components, identified, variant):
     if variant == "flexible":
         expected_joints = sum(se.n for se in model.elements)
     else:
-        expected_joints = {"rigid": 0, "decomposed": 6}.get(variant, 3)
+        expected_joints = {"rigid": 0, "decomposed": 6, "principal": 5}.get(variant, 3)
     assert len(model.joints) - len(vehicle.joints) == expected_joints
 
 

@@ -128,8 +128,11 @@ def virtual(request, tmp_path_factory):
 
     from motoflex_ros.bench.campaign import setup_campaign
     from motoflex_ros.bench.export import bench_of, campaign_measurements, write_measured_csv
+    from motoflex_ros.study.variants import carried_inertias
     folder = tmp_path_factory.mktemp(request.param)
-    measurements = campaign_measurements(setup_campaign(request.param))
+    components, carried = carried_inertias([request.param])
+    measurements = campaign_measurements(setup_campaign(components[0],
+                                                        carried=carried[request.param]))
     write_measured_csv(folder / "bench.csv", measurements)
     (folder / "bench.yaml").write_text(yaml.safe_dump(bench_of(request.param, measurements)))
     run = subprocess.run([sys.executable, "-c", verb_script(
@@ -145,7 +148,8 @@ def test_virtual_tests_found_from_the_load_history(virtual):
     plan = {t: n for n, t in enumerate(dict.fromkeys(measurements.tests))}
     found = [e for e in result["measured"]["tests"] if e["used"]]
     truth = to_jsonable(measurements.identification.to_dict())
-    kinds = [("static", "static"), ("harmonic", "torsion"), ("harmonic", "bending")]
+    kinds = [("static", "static"), ("moment", "moment_axial"), ("moment", "moment_normal"),
+             ("harmonic", "torsion"), ("harmonic", "bending")]
     kinds += [("sweep", f"sweep_{i:02d}") for i in range(len(truth["sweep"]))]
     kinds += [("decay", "decay")]
     assert [(e["kind"], e.get("model", e["name"]) if e["kind"] != "sweep" else e["name"])
@@ -193,3 +197,31 @@ def test_virtual_values_come_back_within_their_intervals(virtual):
     for mine, theirs in zip(result["sweep"], truth["sweep"], strict=True):
         for key in ("beta", "b"):
             assert _agree(mine, theirs, key), ("sweep", mine["f_hz"], key)
+    # issue 22: the principal hinges from the unlabelled record's moment tests (found from the
+    # torque) and the bench file's carried inertia, within their intervals
+    assert result["principal"]["identified"], result["principal"]["problem"]
+    assert result["principal"]["n_hinges"] == truth["principal"]["n_hinges"] == 2
+    for mine, theirs in zip(result["principal"]["hinges"], truth["principal"]["hinges"]):
+        for key in KEYS + ("c",):
+            assert _agree(mine, theirs, key), ("principal", key)
+
+
+@pytest.mark.slow
+def test_labelled_moment_tests_give_the_same_principal_hinges(virtual, tmp_path):
+    """Issue 22: the same record with its test labels (moment_axial, moment_normal named)
+    gives the principal hinges of the unlabelled one (same holds: same numbers)."""
+    import yaml
+
+    from motoflex_ros.bench.export import bench_of, write_measured_csv
+    from motoflex_ros.identify.measured import identify_measured
+    measurements, result = virtual
+    write_measured_csv(tmp_path / "labelled.csv", measurements, labels=True)
+    (tmp_path / "bench.yaml").write_text(yaml.safe_dump(bench_of("bench", measurements)))
+    labelled = identify_measured(read_csv(tmp_path / "labelled.csv"),
+                                 load_bench(tmp_path / "bench.yaml")).to_dict()
+    used = {e["name"]: e for e in labelled["measured"]["tests"] if e["used"]}
+    assert used["moment_axial"]["kind"] == used["moment_normal"]["kind"] == "moment"
+    for mine, theirs in zip(labelled["principal"]["hinges"], result["principal"]["hinges"],
+                            strict=True):
+        for key in KEYS:
+            assert mine[key] == pytest.approx(theirs[key], rel=1e-3), key

@@ -43,6 +43,33 @@ def test_bad_loads_refused_naming_topic_field_sample(force, expected):
     assert expected in str(err.value)
 
 
+def test_moment_loads_pass_as_torque_and_are_bounded():
+    """Issue 22: a moment test's load is the WrenchStamped torque; |M| within the protocol's
+    moments, a torque where the protocol has no moment test refused by name."""
+    from rclpy.serialization import serialize_message
+
+    from motoflex_ros.bench.actuator import LoadSample
+    from motoflex_ros.nodes.conversions import (
+        phase_cdr,
+        sample_from_phase,
+        wrench_msg,
+        wrench_vector_from_cdr,
+    )
+    unit = (0.0, 0.0, 0.0, 0.6, 0.0, -0.8)
+    sample = LoadSample(3, 0.5, 1e-3, 40.0, "moment_axial", "static", "hold", 0.0, False, unit)
+    data = wrench_cdr(5, "c", sample.wrench_vector)
+    reference = bytes(serialize_message(wrench_msg(5, "c", sample.wrench_vector)))
+    assert wrench_vector_from_cdr(reference) == wrench_vector_from_cdr(data)
+    checked = BenchInputs("swingarm", 150.0, load_limit_nm=60.0)
+    ns, load = checked.wrench(data)
+    assert ns == 5 and load == (0.0, 0.0, 0.0, 24.0, 0.0, -32.0)
+    back, _ = sample_from_phase(phase_cdr(sample), load)
+    assert back.wrench == unit and back.force == pytest.approx(40.0, rel=1e-15)
+    with pytest.raises(BadMessage, match=r"wrench.torque = \|M\| = 40 N m is beyond the "
+                                         r"protocol's range \(\|M\| <= 0 N m\)"):
+        _inputs().wrench(data)
+
+
 def test_markers_not_finite_refused_with_index_and_axis():
     checked = _inputs()
     with pytest.raises(BadMessage) as err:

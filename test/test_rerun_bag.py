@@ -155,6 +155,9 @@ def _identification_file(path, reduced, static):
     result = {"static": static,
               **{label: {"l": a.l, "beta": a.beta, "b": a.b} for label, a in modes.items()},
               "k_t": 1.0e6, "k_b": 2.0e6,
+              "principal": {"identified": True, "hinges": [   # issue 22: drawn beside them
+                  {"l": static["l"], "beta": static["beta"] + 0.2, "b": static["b"],
+                   "k": 1.0e6}]},
               "sweep": [{"f_hz": f, "l": static["l"], "beta": static["beta"] + 0.01 * f,
                          "b": static["b"]} for f in (1.0, 20.0)]}
     (path / "identification.json").write_text(json.dumps({"frame": result}))
@@ -239,6 +242,7 @@ def test_rerun_bag_roundtrip_entity_counts(converted):
                  "/bench/frame/structure/exaggeration", "/bench/frame/axes/static",
                  "/bench/frame/axes/static/joint", "/bench/frame/axes/torsion",
                  "/bench/frame/axes/bending", "/bench/frame/axes/sweep",
+                 "/bench/frame/axes/principal_1", "/bench/frame/axes/principal_1/joint",
                  "/vehicle/eigenvalues/model"):
         assert static.get(path, 0) >= 1, path
     # one marker per revolute joint, its id the joint's place among them (the lumped hinge

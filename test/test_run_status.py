@@ -145,9 +145,16 @@ def test_report_of_incomplete_run_says_so_at_the_top(tmp_path):
     html = (run / "report.html").read_text()
     top = html.index('<p class="warning" id="warning">Incomplete run: ')
     assert top < html.index("<section") and "interrupted by SIGINT" in html[top:top + 300]
+    # issue 23, point 8: a status.json edited to "complete" over files that are not a whole
+    # run (no results, no provenance) is refused, and labelled with --allow-incomplete
     write_status(run, "complete")
-    assert _cli("report", run, "--no-compute", "--quiet").returncode == 0
-    assert 'class="warning"' not in (run / "report.html").read_text()
+    cli = _cli("report", run, "--no-compute", "--quiet")
+    assert cli.returncode == 2 and "missing or inconsistent" in cli.stderr, cli.stderr
+    cli = _cli("report", run, "--no-compute", "--quiet", "--allow-incomplete")
+    assert cli.returncode == 0, cli.stderr
+    html = (run / "report.html").read_text()
+    top = html.index('<p class="warning" id="warning">Incomplete run: ')
+    assert top < html.index("<section") and "no provenance.json" in html[top:top + 400]
 
 
 @pytest.mark.parametrize("identify", [False, True])

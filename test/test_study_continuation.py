@@ -6,7 +6,7 @@ from motoflex_ros.errors import ModelError
 from motoflex_ros.study.continuation import continue_eigenpairs, mac, nearest_eigenpairs
 from motoflex_ros.study.stability_index import crossing_speeds
 
-# Whipple bicycle benchmark (reference/whipple-benchmark.md), g = 9.81 m/s^2
+# Whipple bicycle benchmark ([Meijaard 2007], docs/references.md#meijaard-2007), g = 9.81 m/s^2
 M = np.array([[80.81722, 2.31941332208709], [2.31941332208709, 0.29784188199686]])
 C1 = np.array([[0.0, 33.86641391492494], [-0.85035641456978, 1.68540397397560]])
 K0 = np.array([[-80.95, -2.59951685249872], [-2.59951685249872, -0.80329488458618]])

@@ -4,10 +4,13 @@ The "vehicle" is a 6-state system Q blockdiag(B_weave, B_wobble, B_other) Q^-1 w
 B = [[sigma, w], [-w, sigma]] (eigenvalues sigma +/- i w) and sigma linear in speed and in
 the coded stiffnesses, so every stability index has a closed form.
 """
+from argparse import Namespace
+
 import numpy as np
 import pytest
 
-from motoflex_ros.errors import ModelError
+from motoflex_ros.cli.study import extra_ranges
+from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.study.factorial import FACTORS, PAPER_TABLE2_NOMINAL, full_factorial
 from motoflex_ros.study.runner import design_blocks, run_study
 from motoflex_ros.study.sensitivity import analyse_sensitivity
@@ -105,6 +108,28 @@ def test_sensitivity_indices_analytic(design, in_process):
     data = result.to_dict()
     assert set(data) == {"nominal", "indices", "anova_main_share", "pearson"}
     assert len(data["indices"]["wobble_high"]) == 64
+
+
+def test_extra_speed_range_indices_analytic(design, in_process):
+    """Issue 22 (3): an extra range (40-95 km/h) adds "<mode>_40-95kmh" indices equal to the
+    closed form on that range, and leaves the paper's four unchanged."""
+    plain = analyse_sensitivity(design, SPEEDS, in_process.outputs)
+    result = analyse_sensitivity(design, SPEEDS, in_process.outputs, extra_ranges_kmh=[(40, 95)])
+    assert list(result.indices) == list(plain.indices) + ["weave_40-95kmh", "wobble_40-95kmh"]
+    for name, index in plain.indices.items():
+        np.testing.assert_array_equal(result.indices[name].s, index.s)
+    x = {name: design.coded[:, i] for i, name in enumerate(design.factors)}
+    for mode, sigma in (("weave", sigma_weave), ("wobble", sigma_wobble)):
+        expected = analytic_index(sigma, x, (40.0 / 3.6, 95.0 / 3.6))
+        np.testing.assert_allclose(result.indices[f"{mode}_40-95kmh"].s, expected, atol=1e-9)
+    assert set(result.pearson["wobble_40-95kmh"]) == set(design.factors)
+
+
+def test_extra_speed_range_outside_the_grid_is_a_config_error():
+    assert extra_ranges(Namespace(extra_range_kmh=[[40.0, 95.0]])) == [(40.0, 95.0)]
+    for bad in ([30.0, 95.0], [95.0, 40.0], [40.0, 220.0]):
+        with pytest.raises(ConfigError, match="--extra-range-kmh"):
+            extra_ranges(Namespace(extra_range_kmh=[bad]))
 
 
 def test_dask_path_identical_to_in_process(design, in_process):

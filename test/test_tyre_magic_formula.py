@@ -1,7 +1,7 @@
 """Magic Formula motorcycle tyre: closed-form linearization against the full formula.
 
-Published derived values: reference/motorcycle-data.md sect. 1.4 "Derived checks" (MD
-coefficients, Fz0 = 1600 N): front at Fz = 1600 N K_alpha ~ 26.7 kN/rad, K_gamma ~ 1.12 kN/rad,
+Derived values (computed from the [MD] coefficients, docs/references.md#md, when they were
+transcribed; Fz0 = 1600 N): front at Fz = 1600 N K_alpha ~ 26.7 kN/rad, K_gamma ~ 1.12 kN/rad,
 sigma ~ 0.22 m at 10-30 m/s and 0.25 m at 58 m/s; rear at Fz = 2000 N K_alpha ~ 23.5 kN/rad,
 K_gamma ~ 0.92 kN/rad, sigma ~ 0.23/0.26/0.36 m at 10/30/58 m/s.
 """

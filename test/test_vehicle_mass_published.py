@@ -4,10 +4,11 @@
 Independent of the engine: masses and centres are read from the YAML file itself (bodies, their
 parts, wheels at their centres) and summed here; the wheel loads follow from the moment balance
 about the contact points, which lie below the wheel centres when upright (x_contact =
-x_centre). Published: the laden (rider, no luggage) machines of reference/motorcycle-data.md
-put 41.1 % (Sharp-Limebeer 2001, Koenen's machine: 1250 N / 3042 N), 43.5 % (Sharp 1994:
-Z_f 1220 N / 2805 N) and 47.5 % (Cossalter sport-touring with rider: b / p = 0.688 / 1.448) of
-the weight on the front wheel; no R 1200/1250 RT split is published (sect. 3)."""
+x_centre). Published: the laden (rider, no luggage) machines of docs/references.md ([SL01],
+[MW94], [Cossalter]) put 41.1 % (Sharp-Limebeer 2001, Koenen's machine: 1250 N / 3042 N),
+43.5 % (Sharp 1994: Z_f 1220 N / 2805 N) and 47.5 % (Cossalter sport-touring with rider:
+b / p = 0.688 / 1.448) of the weight on the front wheel; no R 1200/1250 RT split is published
+([RT])."""
 import numpy as np
 import pytest
 import yaml

@@ -1,8 +1,8 @@
 """Touring motorcycle (config/vehicles/touring.yaml): mass budget, speed polynomial, and weave /
 wobble / capsize tracked over 40-210 km/h against the published trends.
 
-Published trends, reference/motorcycle-data.md sect. 2f: weave 1-4 Hz and wobble 6-10 Hz
-(Passigato et al. 2023, introduction); Cossalter 4-dof model: wobble 8.5-9.6 Hz with little speed
+Published trends (docs/references.md): weave 1-4 Hz and wobble 6-10 Hz
+([Passigato 2023], introduction); [Cossalter] 4-dof model: wobble 8.5-9.6 Hz with little speed
 effect, weave frequency rising with speed to about 3.6 Hz, lightly damped at high speed.
 """
 import numpy as np

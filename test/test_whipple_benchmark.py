@@ -1,6 +1,6 @@
 """Whipple bicycle benchmark (Meijaard et al. 2007) through the general engine from YAML.
 
-Published values: reference/whipple-bicycle.md (14 significant digits, from Meijaard,
+Published values: [Meijaard 2007] in docs/references.md (14 significant digits, from Meijaard,
 Papadopoulos, Ruina, Schwab, Proc. R. Soc. A 463 (2007), eqs. (A.1)-(A.4) and Table 2).
 """
 import numpy as np

@@ -1,67 +1,41 @@
 #!/usr/bin/env python3
-"""Why the per-body front assembly differs from the bench's (issue 12, docs/boundary-conditions.md).
+"""The per-body front assembly's bridge rocking and the joint links' tilt stiffness (issue 22).
 
 Usage: python tools/front_bridge_rocking.py [--speeds-kmh 40 100 160 210]
+                                            [--factors 1 3 10 30 100] [--part tilt|rotation]
+                                            [--rocking-modes]
 
-Prints, for the touring motorcycle with the front assembly flexible:
-1. the fork bridge's rotational stiffness at the head when the head spring's rotations are
-   freed (the Telelever's spherical head joint), from the FE bodies joined in structures/;
-2. the oscillatory modes of the per-body motorcycle between 2 and 6 Hz and the joint
-   coordinate that moves most in each (the bridge rocking on the head joint: steer_2, steer_3);
-3. weave and wobble over speed for: one clamped superelement (the bench's structure), the
-   per-body motorcycle, the per-body motorcycle with the head a revolute about the steering
-   axis (the bridge held as on the bench), and with the joint links' cardanic stiffness x 10
-   and x 100.
+Prints, for the touring motorcycle with the front assembly flexible
+(:mod:`motoflex_ros.study.tilt_stiffness`):
+1. the fork bridge's rocking stiffness at the head when the head spring's rotations are freed
+   (the Telelever's spherical head joint), at each factor;
+2. with --rocking-modes, the oscillatory modes of the nominal per-body motorcycle between 2 and
+   6 Hz at 100 km/h and the joint coordinate that moves most in each (one more linearization);
+3. weave and wobble over speed for the one-clamped-superelement motorcycle, the per-body one
+   with the head a revolute about the steering axis (the bridge held as on the bench) and the
+   per-body one with the joint links' rotational stiffness times each factor; then, per factor,
+   the least-damped real part of each mode over the speeds and where it is. --part tilt
+   (default) scales the links' cardanic stiffness only, rotation their whole rotational block
+   (the torsion about the stanchions too).
+Minutes: one per-body linearization (about 85 s) per factor.
 """
 import argparse
-from dataclasses import replace
+import sys
 
 import numpy as np
 
 from motoflex_ros.config import config_path
 from motoflex_ros.structures import load_component
-from motoflex_ros.structures.bodies import assemble_bodies, reduce_bodies
+from motoflex_ros.study.tilt_stiffness import (
+    FRONT,
+    PARTS,
+    TILT_FACTORS,
+    bridge_rocking_stiffness,
+    tilt_sweep,
+)
 from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
-from motoflex_ros.vehicle.modes import modal_sweep
-
-NAME = "front_assembly"
-
-
-def _spring_index(component, a, b):
-    nodes = {component.node_names[a], component.node_names[b]}
-    return next(i for i, (n1, n2, _) in enumerate(component.structure.springs)
-                if {n1, n2} == nodes)
-
-
-def bridge_stiffness_freed():
-    """Eigenvalues [N m/rad] of the fork bridge's rotational stiffness at its head node with the
-    head spring's rotations set to zero (translations kept)."""
-    component = load_component(NAME)
-    springs = component.structure.springs
-    i = _spring_index(component, "steering_head", "fork_bridge")
-    n1, n2, block = springs[i]
-    freed = np.array(block, float)
-    freed[3:, :] = 0.0
-    freed[:, 3:] = 0.0
-    springs[i] = (n1, n2, freed)
-    joined = assemble_bodies(component, reduce_bodies(component))
-    compliance = joined.static_compliance(component.node_names["fork_bridge"])[3:, 3:]
-    return np.linalg.eigvalsh(np.linalg.inv(compliance))
-
-
-def with_stiffer_joint_links(factor):
-    """The front assembly with its joint links' rotational stiffness times ``factor``."""
-    component = load_component(NAME)
-    springs = component.structure.springs
-    for top in ("left", "right"):
-        i = _spring_index(component, f"fork_top_{top}", f"stanchion_top_{top}")
-        n1, n2, block = springs[i]
-        stiffer = np.array(block, float)
-        stiffer[3:, 3:] *= factor
-        springs[i] = (n1, n2, stiffer)
-    return component
 
 
 def rocking_modes(lin, speed):
@@ -77,31 +51,44 @@ def rocking_modes(lin, speed):
     return sorted(out)
 
 
+def _cells(values):
+    return "  ".join(f"{z.real:+7.3f}{z.imag:+8.3f}j" for z in values)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--speeds-kmh", type=float, nargs="+", default=[40, 100, 160, 210])
-    speeds = np.asarray(parser.parse_args().speeds_kmh) / 3.6
+    parser.add_argument("--factors", type=float, nargs="+", default=list(TILT_FACTORS))
+    parser.add_argument("--part", choices=PARTS, default="tilt")
+    parser.add_argument("--rocking-modes", action="store_true")
+    args = parser.parse_args()
+    speeds = np.asarray(args.speeds_kmh) / 3.6
     vehicle = load_vehicle(config_path("vehicles", "touring"))
-    print("1. fork bridge at the head, head rotations freed: rotational stiffness eigenvalues "
-          f"{np.round(bridge_stiffness_freed(), 1).tolist()} N m/rad")
-    base = {NAME: load_component(NAME)}
-    bodies = build_variant(vehicle, "flexible_bodies", [NAME], {}, base)
-    held = replace(bodies, joints=tuple(replace(j, kind="revolute") if j.name == "steer"
-                                        else j for j in bodies.joints))
-    models = {"one clamped superelement": build_variant(vehicle, "flexible", [NAME], {}, base),
-              "per-body": bodies, "per-body, head revolute": held}
-    for factor in (10.0, 100.0):
-        models[f"per-body, joint links x {factor:g}"] = build_variant(
-            vehicle, "flexible_bodies", [NAME], {}, {NAME: with_stiffer_joint_links(factor)})
-    print("2. per-body modes between 2 and 6 Hz at 100 km/h:",
-          ", ".join(f"{f:.2f} Hz ({c})" for f, c in
-                    rocking_modes(linearize(bodies), 100 / 3.6)))
+    print("1. fork bridge on the freed head, rocking stiffness [N m/rad] (steering, pitch/roll):")
+    for factor in args.factors:
+        stiffness = bridge_rocking_stiffness(factor, args.part)
+        print(f"   joint links' {args.part} x {factor:<6g} {np.round(stiffness, 1)}")
+    if args.rocking_modes:
+        per_body = build_variant(vehicle, "flexible_bodies", [FRONT], {},
+                                 {FRONT: load_component(FRONT)})
+        print("2. per-body modes between 2 and 6 Hz at 100 km/h:",
+              ", ".join(f"{f:.2f} Hz ({c})" for f, c in
+                        rocking_modes(linearize(per_body), 100 / 3.6)))
+    sweep = tilt_sweep(vehicle, speeds, args.factors, args.part,
+                       progress=lambda label: print(f"   ... {label}", file=sys.stderr))
     print("3. weave and wobble [1/s] at " + ", ".join(f"{v * 3.6:g}" for v in speeds) + " km/h")
-    for label, model in models.items():
-        sweep = modal_sweep(linearize(model), speeds)
-        for mode in ("weave", "wobble"):
-            cells = "  ".join(f"{z.real:+7.3f}{z.imag:+8.3f}j" for z in sweep.modes[mode])
-            print(f"   {label:34s} {mode:6s} {cells}")
+    for mode in ("weave", "wobble"):
+        print(f"   {'one clamped superelement':34s} {mode:6s} {_cells(sweep.superelement[mode])}")
+        print(f"   {'per-body, head revolute':34s} {mode:6s} {_cells(sweep.held[mode])}")
+        for factor, row in zip(sweep.factors, sweep.modes[mode]):
+            label = f"per-body, links' {args.part} x {factor:g}"
+            print(f"   {label:34s} {mode:6s} {_cells(row)}")
+    print("   least damped over the speeds [1/s] (at km/h):")
+    least = sweep.least_damped()
+    for k, factor in enumerate(sweep.factors):
+        print(f"   x {factor:<6g} " + "  ".join(
+            f"{mode} {least[mode][0][k]:+.3f} ({least[mode][1][k] * 3.6:.0f})"
+            for mode in ("weave", "wobble")))
 
 
 if __name__ == "__main__":

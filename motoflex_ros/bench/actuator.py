@@ -13,20 +13,38 @@ Load histories (F_y at the loaded end [N], t [s] from the test's start):
 - decay: the first sample holds the preload (phase 'preload': the structure starts from static
   equilibrium under it), then F = 0 (phase 'release').
 
+A test's load is the wrench ``force`` x ``wrench`` at the loaded end: ``wrench`` the unit wrench
+(F_x, F_y, F_z, M_x, M_y, M_z) of the test (:data:`LATERAL_WRENCH` for the paper's tests, a
+unit moment for the moment tests of the principal hinges), ``force`` its amplitude [N or N m].
+
 Tests follow each other with a pause of ``PAUSE_S`` so that time keeps increasing.
 """
 import math
 from dataclasses import dataclass, fields
 
-__all__ = ["LoadSample", "LoadActuator", "test_forces", "PAUSE_S"]
+__all__ = ["LoadSample", "LoadActuator", "test_forces", "PAUSE_S", "LATERAL_WRENCH",
+           "wrench_amplitude"]
 
 PAUSE_S = 0.1
+LATERAL_WRENCH = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0)
+"""Unit wrench of the paper's tests: F_y at the loaded end."""
+
+
+def wrench_amplitude(unit, wrench):
+    """Amplitude a [N or N m] of a wrench (6,) along the unit wrench ``unit``: u . w (exactly
+    F_y for the lateral unit wrench).
+
+    >>> wrench_amplitude(LATERAL_WRENCH, (0.0, -12.5, 0.0, 0.0, 0.0, 0.0))
+    -12.5
+    """
+    return float(sum(u * w for u, w in zip(unit, wrench)))
 
 
 @dataclass(frozen=True)
 class LoadSample:
-    """One commanded load: sample index, time t [s], sample period dt [s], force F_y [N], the
-    test name and kind, its phase, frequency [Hz] (0 if none) and whether it starts a test."""
+    """One commanded load: sample index, time t [s], sample period dt [s], force F_y [N] (the
+    amplitude [N or N m] of ``wrench``), the test name and kind, its phase, frequency [Hz] (0
+    if none), whether it starts a test and the test's unit wrench at q0 (default F_y)."""
 
     index: int
     t: float
@@ -37,11 +55,28 @@ class LoadSample:
     phase: str
     frequency_hz: float
     test_start: bool
+    wrench: tuple = LATERAL_WRENCH
+
+    def __post_init__(self):
+        if self.wrench is not LATERAL_WRENCH:
+            object.__setattr__(self, "wrench", tuple(float(v) for v in self.wrench))
+
+    @property
+    def wrench_vector(self):
+        """The commanded wrench at q0, force x wrench [N, N m]."""
+        return tuple(self.force * w for w in self.wrench)
 
     def to_dict(self):
         """Plain dict (for messages and files; the fields are plain values, so no deep copy
-        as ``dataclasses.asdict`` makes: this runs once per sample of the graph)."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        as ``dataclasses.asdict`` makes: this runs once per sample of the graph). The wrench is
+        left out when it is the lateral force (the paper's tests: their labels stay as
+        before)."""
+        out = {f.name: getattr(self, f.name) for f in fields(self)}
+        if self.wrench == LATERAL_WRENCH:
+            del out["wrench"]
+        else:
+            out["wrench"] = list(self.wrench)
+        return out
 
     @classmethod
     def from_dict(cls, data):
@@ -104,7 +139,7 @@ class LoadActuator:
         force, phase = test_forces(plan, self._j)
         t = self._t0 + self._j / plan.rate_hz
         sample = LoadSample(self.index, t, 1.0 / plan.rate_hz, force, plan.name, plan.kind,
-                            phase, plan.frequency_hz, self._j == 0)
+                            phase, plan.frequency_hz, self._j == 0, plan.wrench)
         self.index += 1
         self._j += 1
         self._last_t = t

@@ -28,7 +28,8 @@ __all__ = ["CampaignSetup", "CampaignRun", "setup_campaign", "make_stages", "run
 
 @dataclass(frozen=True)
 class CampaignSetup:
-    """A component's reduced model, its modes, the planned protocol and the Component."""
+    """A component's reduced model, its modes, the planned protocol, the Component and the
+    inertia the loaded end carries (a CarriedInertia for the principal hinges, or None)."""
 
     name: str
     reduced: object
@@ -36,6 +37,7 @@ class CampaignSetup:
     protocol: object
     plan: object
     component: object = None
+    carried: object = None
 
 
 @dataclass(frozen=True)
@@ -48,9 +50,10 @@ class CampaignRun:
     trace: dict = None
 
 
-def setup_campaign(component, protocol=None, noise_m=None):
+def setup_campaign(component, protocol=None, noise_m=None, carried=None):
     """CampaignSetup of a component (name, file or Component) with a protocol (name, file,
-    Protocol or None for the component's shipped protocol); noise_m [m] overrides the sensor.
+    Protocol or None for the component's shipped protocol); noise_m [m] overrides the sensor;
+    ``carried`` the CarriedInertia of the principal hinges (None: they are not identified).
     """
     from motoflex_ros.structures.components import load_component
     comp = load_component(component) if isinstance(component, str) else component
@@ -64,18 +67,19 @@ def setup_campaign(component, protocol=None, noise_m=None):
                                                     noise_m=checked_noise(noise_m)))
     modes = clamped_modes(reduced)
     return CampaignSetup(comp.name, reduced, modes, protocol,
-                         plan_campaign(protocol, reduced, modes), comp)
+                         plan_campaign(protocol, reduced, modes), comp, carried)
 
 
 def checked_noise(noise_m, source="sensor noise override", key="noise_m"):
     """A sensor-noise override [m] (standard deviation per coordinate), checked to
     [0, MAX_NOISE_M] (:data:`motoflex_ros.bench.sensor.MAX_NOISE_M`, 1 mm)."""
+    from motoflex_ros.config import number_text
     from motoflex_ros.errors import ConfigError
     value = float(noise_m)
     if not 0.0 <= value <= MAX_NOISE_M:
         raise ConfigError(source, key, f"sensor noise must be in [0, {MAX_NOISE_M:g}] m (the "
                                        f"bench's deformations are at most about a millimetre), "
-                                       f"got {value:g}")
+                                       f"got {number_text(value)}")
     return value
 
 
@@ -158,7 +162,7 @@ def run_campaign(setup, seed=0, trace=False):
     readings = identifier.readings()
     result = None
     if set(MODEL_TESTS) <= set(readings):
-        result = identify_component(setup.name, readings, setup.modes, q0)
+        result = identify_component(setup.name, readings, setup.modes, q0, setup.carried)
     table = None
     if trace:
         table = {"t": np.array([r[0] for r in rows]), "force": np.array([r[1] for r in rows]),
@@ -166,12 +170,16 @@ def run_campaign(setup, seed=0, trace=False):
     return CampaignRun(result, readings, n, table)
 
 
-def identify_components(components, protocol=None, noise_m=None, seed=0, progress=None):
+def identify_components(components, protocol=None, noise_m=None, seed=0, progress=None,
+                        carried=None):
     """Run the campaign of each component; returns {name: (CampaignSetup, CampaignRun)}.
-    ``progress`` (optional) is called with each component's name once it is done."""
+    ``progress`` (optional) is called with each component's name once it is done; ``carried``
+    (optional) maps a component name to its CarriedInertia (the principal hinges' metric)."""
     out = {}
+    carried = carried or {}
     for component in components:
         setup = setup_campaign(component, protocol, noise_m)
+        setup = replace(setup, carried=carried.get(setup.name))
         out[setup.name] = (setup, run_campaign(setup, seed))
         if progress is not None:
             progress(setup.name)

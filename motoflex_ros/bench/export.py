@@ -23,7 +23,7 @@ __all__ = ["CampaignMeasurements", "campaign_measurements", "write_measured_csv"
 class CampaignMeasurements:
     """Per sample: time t [s], load F_y [N] (as wrenches (n, 6)), measured markers (n, N, 3)
     [m], test names; the virtual identification of the same run and the component's q0 [m]
-    and marker offsets (N, 3) [m]."""
+    and marker offsets (N, 3) [m], the sensor noise [m] and the carried inertia (or None)."""
 
     t: np.ndarray
     wrench: np.ndarray
@@ -33,6 +33,7 @@ class CampaignMeasurements:
     q0: np.ndarray
     offsets: np.ndarray
     noise_m: float
+    carried: object = None
 
 
 def campaign_measurements(setup, seed=0):
@@ -58,14 +59,13 @@ def campaign_measurements(setup, seed=0):
     readings = identifier.readings()
     result = None
     if set(MODEL_TESTS) <= set(readings):
-        result = identify_component(setup.name, readings, setup.modes, q0)
-    wrench = np.zeros((len(samples), 6))
-    wrench[:, 1] = [s.force for s in samples]
+        result = identify_component(setup.name, readings, setup.modes, q0, setup.carried)
+    wrench = np.array([s.wrench_vector for s in samples], float).reshape(-1, 6)
     return CampaignMeasurements(np.array([s.t for s in samples]), wrench,
                                 np.array([measured[s.index] for s in samples]),
                                 tuple(s.test for s in samples), result, q0,
                                 np.asarray(setup.protocol.sensor.markers, float),
-                                setup.protocol.sensor.noise_m)
+                                setup.protocol.sensor.noise_m, setup.carried)
 
 
 def write_measured_csv(path, measurements, labels=False):
@@ -76,8 +76,11 @@ def write_measured_csv(path, measurements, labels=False):
 
 
 def bench_of(name, measurements, markers="offsets", latency_s=0.0):
-    """The bench file (a mapping) of CampaignMeasurements: q0, the sensor's noise and the
-    marker offsets (``markers='offsets'``) or ``'from_data'``."""
-    return {"bench": name, "loaded_end": [float(v) for v in measurements.q0],
-            "markers": (measurements.offsets.tolist() if markers == "offsets" else markers),
-            "sensor": {"noise_m": float(measurements.noise_m), "latency_s": float(latency_s)}}
+    """The bench file (a mapping) of CampaignMeasurements: q0, the sensor's noise, the marker
+    offsets (``markers='offsets'``) or ``'from_data'`` and the carried inertia if any."""
+    out = {"bench": name, "loaded_end": [float(v) for v in measurements.q0],
+           "markers": (measurements.offsets.tolist() if markers == "offsets" else markers),
+           "sensor": {"noise_m": float(measurements.noise_m), "latency_s": float(latency_s)}}
+    if measurements.carried is not None:
+        out["carried"] = measurements.carried.bench_key()
+    return out

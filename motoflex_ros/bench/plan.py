@@ -11,10 +11,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from motoflex_ros.bench.actuator import LATERAL_WRENCH
 from motoflex_ros.bench.modes import clamped_modes
 from motoflex_ros.bench.protocols import MATCH_STATIC
 from motoflex_ros.bench.response import harmonic_peak_motion
 from motoflex_ros.errors import ProtocolError
+from motoflex_ros.identify.principal import MOMENT_TESTS, unit_wrenches
 from motoflex_ros.limits import amount, check_limit
 
 MAX_ROTATION_RAD = 0.05  # [rad] largest end rotation of a test: small, linear deformation
@@ -34,7 +36,9 @@ class TestPlan:
     max_samples the longest it may run, amplitude_n [N] (F_st, amplitude or preload),
     frequency_hz [Hz] (harmonic), ramp_time_s [s] (static), onset_time_s [s] (load envelope) and
     read_time_s [s] (peaks read after it) of harmonic tests; ``key`` the protocol's dotted key
-    of the test's load (static.force_n, harmonic.tests[i].amplitude_n...)."""
+    of the test's load (static.force_n, harmonic.tests[i].amplitude_n...); ``wrench`` the unit
+    wrench at q0 the amplitude multiplies (F_y; a unit moment for the moment tests, whose
+    amplitude_n is then in N m)."""
 
     name: str
     kind: str
@@ -46,6 +50,7 @@ class TestPlan:
     onset_time_s: float = 0.0
     read_time_s: float = 0.0
     key: str = ""
+    wrench: tuple = LATERAL_WRENCH
 
 
 @dataclass(frozen=True)
@@ -65,7 +70,15 @@ class CampaignPlan:
         """Largest |F_y| [N] a bench may report for this campaign: LOAD_MARGIN times the largest
         load it commands (a measured load overshoots its command a little; a load past this is
         a fault of the bench or of a message, and stops the run)."""
-        return LOAD_MARGIN * max((abs(t.amplitude_n) for t in self.tests), default=0.0)
+        return LOAD_MARGIN * max((abs(t.amplitude_n) for t in self.tests
+                                  if t.wrench == LATERAL_WRENCH), default=0.0)
+
+    @property
+    def load_limit_nm(self):
+        """Largest |M| [N m] a bench may report: LOAD_MARGIN times the largest moment it
+        commands (0 without moment tests)."""
+        return LOAD_MARGIN * max((abs(t.amplitude_n) for t in self.tests
+                                  if t.wrench != LATERAL_WRENCH), default=0.0)
 
 
 def protocol_error(protocol, key, problem):
@@ -103,6 +116,25 @@ def _static(protocol, modes):
     return TestPlan("static", "static", s.sample_rate_hz, n, s.force_n,
                     ramp_time_s=round(s.ramp_time_s * s.sample_rate_hz) / s.sample_rate_hz,
                     key="static.force_n")
+
+
+def _moments(protocol, static, q0):
+    """The moment tests (the static test's ramp and rate, the moments' hold; unit moments
+    along O-q0 and its normal, :func:`motoflex_ros.identify.principal.unit_wrenches`)."""
+    units = unit_wrenches(q0)
+    m = protocol.moments
+    hold = protocol.static.hold_time_s if m.hold_time_s is None else m.hold_time_s
+    if round(hold * static.rate_hz) < 10:
+        raise protocol_error(protocol, "moments.hold_time_s",
+                             f"hold_time_s {hold:g} s gives fewer than 10 samples at "
+                             f"{static.rate_hz:g} Hz to read at the maximum")
+    n = round((static.ramp_time_s + hold) * static.rate_hz) + 1
+    amplitudes = (m.axial_nm, m.normal_nm)
+    keys = ("moments.axial_nm", "moments.normal_nm")
+    return [TestPlan(name, "static", static.rate_hz, n, amp,
+                     ramp_time_s=static.ramp_time_s, key=key,
+                     wrench=tuple(float(v) for v in units[name]))
+            for name, amp, key in zip(MOMENT_TESTS, amplitudes, keys)]
 
 
 def onset_times(frequency, settings, modes):
@@ -230,8 +262,7 @@ def matched_amplitude(reduced, frequency, static_force):
 
 def check_linear(plan, reduced, protocol):
     """ProtocolError when a test's peak end rotation exceeds MAX_ROTATION_RAD (not small)."""
-    load = np.zeros(reduced.K.shape[0])
-    load[reduced.end_dofs[1]] = plan.amplitude_n
+    load = reduced.end_load_vector(plan.amplitude_n * np.asarray(plan.wrench, float))
     if plan.kind in ("static", "decay"):
         motion = np.linalg.solve(reduced.K, load)[reduced.end_dofs]
     else:
@@ -240,7 +271,8 @@ def check_linear(plan, reduced, protocol):
     if rotation > MAX_ROTATION_RAD:
         raise protocol_error(
             protocol, plan.key,
-            f"test '{plan.name}': the load {plan.amplitude_n:.4g} N turns the loaded end by "
+            f"test '{plan.name}': the load {plan.amplitude_n:.4g} "
+            f"{'N' if plan.wrench == LATERAL_WRENCH else 'N m'} turns the loaded end by "
             f"{rotation:.3g} rad (> {MAX_ROTATION_RAD} rad); the deformation would not stay "
             f"small and linear, lower the load")
 
@@ -286,6 +318,8 @@ def plan_campaign(protocol, reduced, modes=None):
     """
     modes = modes if modes is not None else clamped_modes(reduced)
     tests = [_static(protocol, modes)]
+    if protocol.moments is not None:
+        tests += _moments(protocol, tests[0], reduced.q0)
     for i, t in enumerate(protocol.harmonic_tests):
         freq = modes.frequency(t.frequency) if isinstance(t.frequency, str) else t.frequency
         amp = t.amplitude_n

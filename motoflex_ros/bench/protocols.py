@@ -8,7 +8,11 @@ models, others are extra tests), the frequency sweep (harmonic tests from ``star
 below the first eigenfrequency) and the modal test (release from a static preload, free
 decay), and, beyond the paper, ``road_load``: the quasi-static test with the force applied
 through a rigid lever (point and direction settable; default the tyre contact point of the
-vehicle's static configuration and a lateral force). Every force is an amplitude at the
+vehicle's static configuration and a lateral force), and ``moments``: two more quasi-static
+tests (the static test's ramp and hold) with a moment at the loaded end about the component's
+own axes, along O-q0 (``axial_nm``) and along its normal in the x-z plane (``normal_nm``), for
+the principal hinges (:mod:`motoflex_ros.identify.principal`; on a physical bench a moment is
+a force pair or a lever). Every force is an amplitude at the
 loaded end [N] (the road_load's at its lever point); choose it so that the deformation stays
 small (linear), as the paper does. Checks that need the component (ramp slow enough,
 frequencies below the sensor's Nyquist rate, sweep ending below the first eigenfrequency) are
@@ -29,10 +33,12 @@ from motoflex_ros.config import (
     validate,
 )
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.identify.principal import MOMENT_TESTS
 from motoflex_ros.identify.results import MEASURED_KEY, MODEL_TESTS, RESULT_KEYS
 
-__all__ = ["StaticTest", "RoadLoadTest", "HarmonicSettings", "HarmonicTest", "SweepTest",
-           "ModalTest", "Protocol", "load_protocol", "protocol_for", "PROTOCOL_SCHEMA",
+__all__ = ["StaticTest", "RoadLoadTest", "MomentTests", "MOMENT_NM", "HarmonicSettings",
+           "HarmonicTest", "SweepTest", "ModalTest", "Protocol", "load_protocol", "protocol_for",
+           "PROTOCOL_SCHEMA",
            "MODE_FREQUENCIES", "MATCH_STATIC", "REQUIRED_HARMONIC_TESTS", "RESERVED_TEST_NAMES",
            "MIN_MARKER_SPREAD_M"]
 
@@ -40,8 +46,9 @@ MODE_FREQUENCIES = ("first", "first torsion", "first bending")
 MATCH_STATIC = "match_static"
 REQUIRED_HARMONIC_TESTS = tuple(t for t in MODEL_TESTS if t != "static")
 """Harmonic tests every protocol has: the identification's torsion and bending models."""
-RESERVED_TEST_NAMES = ("static", "decay") + RESULT_KEYS + (MEASURED_KEY,)
-"""Names a harmonic test may not have: the plan's own tests (static, decay; the sweep's are
+RESERVED_TEST_NAMES = ("static", "decay") + MOMENT_TESTS + RESULT_KEYS + (MEASURED_KEY,)
+"""Names a harmonic test may not have: the plan's own tests (static, decay, the moment tests;
+the sweep's are
 sweep_00, sweep_01...) and the keys of the results; nor may a name start with 'sweep'."""
 MIN_MARKER_SPREAD_M = 1e-3
 """Smallest second singular value [m] of the centred marker offsets (their spread across the
@@ -60,6 +67,7 @@ MAX_FREQUENCY_HZ = 1e6
 MAX_TIME_S = 3600.0
 MAX_PERIODS = 1e5
 MAX_SIZE_M = 10.0
+MOMENT_NM = (1e-3, 1e6)  # [N m]
 
 _SENSOR = Field("mapping", required=False, default=None, fields={
     "noise_m": number(0.0, MAX_NOISE_M, required=False, default=5e-6,
@@ -127,10 +135,17 @@ _ROAD_LOAD = Field("mapping", required=False, default=None, fields={
     "force_n": number(*FORCE_N, required=False, default=None,
                       help="force [N] (default: static.force_n)"),
 })
+_MOMENTS = Field("mapping", required=False, default=None, fields={
+    "axial_nm": number(*MOMENT_NM, help="moment along O-q0 [N m]"),
+    "normal_nm": number(*MOMENT_NM, help="moment along the normal of O-q0 in the x-z plane "
+                                         "[N m]"),
+    "hold_time_s": positive(MAX_TIME_S, required=False, default=None,
+                            help="hold [s] (default: static.hold_time_s)"),
+})
 PROTOCOL_SCHEMA = Field("mapping", fields={
     "description": Field("str", required=False, default=""),
     "sensor": _SENSOR, "static": _STATIC, "harmonic": _HARMONIC, "sweep": _SWEEP,
-    "modal": _MODAL, "road_load": _ROAD_LOAD,
+    "modal": _MODAL, "road_load": _ROAD_LOAD, "moments": _MOMENTS,
 })
 
 
@@ -203,6 +218,17 @@ class RoadLoadTest:
 
 
 @dataclass(frozen=True)
+class MomentTests:
+    """The moment tests of the principal hinges (beyond the paper): moments [N m] at q0 along
+    O-q0 (axial_nm) and along its normal in the x-z plane (normal_nm), with the static test's
+    ramp and rate and a hold of hold_time_s [s] (None: the static test's)."""
+
+    axial_nm: float
+    normal_nm: float
+    hold_time_s: float = None
+
+
+@dataclass(frozen=True)
 class Protocol:
     """A validated bench campaign; ``source`` is the file it came from."""
 
@@ -215,6 +241,7 @@ class Protocol:
     description: str = ""
     source: str = ""
     road_load: RoadLoadTest = RoadLoadTest()
+    moments: MomentTests = None
 
 
 def _check_amplitude(value, source, key):
@@ -327,7 +354,8 @@ def load_protocol(name_or_file):
                     sweep=_sweep(data["sweep"], path),
                     modal=ModalTest(**data["modal"]) if data["modal"] else None,
                     description=data["description"], source=str(path),
-                    road_load=_road_load(data["road_load"], path))
+                    road_load=_road_load(data["road_load"], path),
+                    moments=MomentTests(**data["moments"]) if data["moments"] else None)
 
 
 def protocol_for(component_name):

@@ -12,7 +12,8 @@ motion is about 1/(2 zeta) times the quasi-static K^-1 f and has the resonant mo
 
 A sample is the k-th phase label on /bench/<c>/phase (std_msgs/String, JSON of
 :class:`~motoflex_ros.bench.actuator.LoadSample`) with the k-th load on /bench/<c>/load, paired
-by order as the nodes pair them; the force is the load's F_y. A bag without phase labels (or
+by order as the nodes pair them; the force is the load's amplitude along the test's unit wrench
+(F_y, or the moment tests' torque). A bag without phase labels (or
 whose labels do not match the loads' stamps) is replayed from the load stamps alone: one test
 from rest, first-order hold between the stamps (exact for a piecewise-linear load).
 """
@@ -39,16 +40,18 @@ class ReplayedLoads:
 
 
 def _labelled(phases, loads):
-    """LoadSamples from phase labels (JSON) paired by order with (t_ns, F_y [N]); or None."""
-    from motoflex_ros.bench.actuator import LoadSample
+    """LoadSamples from phase labels (JSON) paired by order with (t_ns, load); or None."""
+    from motoflex_ros.bench.actuator import LATERAL_WRENCH, LoadSample, wrench_amplitude
     labels = [d for d in (json.loads(p) for p in phases) if "end_ns" not in d]
     if not labels or len(labels) != len(loads):
         return None
     samples = []
-    for label, (t_ns, force) in zip(labels, loads):
+    for label, (t_ns, load) in zip(labels, loads):
         if int(round(label["t"] * NS_PER_S)) != t_ns:
             return None
-        samples.append(LoadSample.from_dict({**label, "force": float(force)}))
+        force = (float(load) if np.ndim(load) == 0
+                 else wrench_amplitude(label.get("wrench", LATERAL_WRENCH), load))
+        samples.append(LoadSample.from_dict({**label, "force": force}))
     return tuple(samples)
 
 
@@ -57,9 +60,9 @@ def _from_stamps(loads):
     from motoflex_ros.bench.actuator import LoadSample
     times = np.array([t_ns for t_ns, _ in loads], float) / NS_PER_S
     steps = np.diff(times, prepend=times[0])
-    return tuple(LoadSample(k, float(t), float(dt), float(force), "recorded", "static", "",
-                            0.0, k == 0)
-                 for k, (t, dt, (_, force)) in enumerate(zip(times, steps, loads)))
+    forces = [float(load) if np.ndim(load) == 0 else float(load[1]) for _, load in loads]
+    return tuple(LoadSample(k, float(t), float(dt), force, "recorded", "static", "", 0.0, k == 0)
+                 for k, (t, dt, force) in enumerate(zip(times, steps, forces)))
 
 
 def recorded_samples(phases, loads):
@@ -69,8 +72,9 @@ def recorded_samples(phases, loads):
     ----------
     phases : sequence of str
         Data of the /bench/<c>/phase messages in recording order (may be empty).
-    loads : sequence of (int, float)
-        (header stamp [ns], F_y [N]) of the /bench/<c>/load messages in recording order.
+    loads : sequence of (int, float or (6,))
+        (header stamp [ns], F_y [N] or the wrench [N, N m]) of the /bench/<c>/load messages in
+        recording order.
 
     Returns
     -------

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from motoflex_ros.bench.actuator import LATERAL_WRENCH
 from motoflex_ros.structures.clamped import state_space
 
 __all__ = ["StateSpace", "Discretisation", "lateral_state_space", "discretise",
@@ -88,8 +89,10 @@ def discretise(system, dt, omega=0.0):
 class ComponentSimulator:
     """Stage object: steps the clamped reduced component under one load sample at a time.
 
-    The commanded force is F_y at the loaded end, or, with ``wrench`` (6,), that wrench at q0
-    per newton (a load applied through a rigid lever). Each test starts from rest (a bench
+    The commanded load is the sample's amplitude times its unit wrench at q0 (F_y for the
+    paper's tests, a moment for the moment tests), or, with ``wrench`` (6,), that wrench at q0
+    per newton for every sample (a load applied through a rigid lever). Each test starts from
+    rest (a bench
     waits for the structure to settle between tests), or,
     for a ``preload`` phase, from static equilibrium under the preload. Harmonic and sweep
     samples are joined by the harmonic hold at their frequency, others by the first-order
@@ -98,21 +101,36 @@ class ComponentSimulator:
     """
 
     def __init__(self, reduced, wrench=None):
-        self.system = lateral_state_space(reduced, wrench)
+        self.A, self.B = state_space(reduced)
+        self.end_dofs = np.asarray(reduced.end_dofs)
         self.K = np.asarray(reduced.K, float)
-        self.unit_load = np.zeros(self.K.shape[0])
-        if wrench is None:
-            self.unit_load[reduced.end_dofs[LATERAL_FORCE]] = 1.0
-        else:
-            self.unit_load[np.asarray(reduced.end_dofs)] = np.asarray(wrench, float)
+        self.fixed_wrench = None if wrench is None else tuple(float(v) for v in wrench)
+        self.wrench = self.fixed_wrench or LATERAL_WRENCH
         self.q0 = np.asarray(reduced.q0, float)
+        self._systems = {}
         self._cache = {}
-        self.state = np.zeros(self.system.A.shape[0])
+        self.state = np.zeros(self.A.shape[0])
         self.force = 0.0
 
+    @property
+    def system(self):
+        """The StateSpace of the current test's unit wrench."""
+        if self.wrench not in self._systems:
+            self._systems[self.wrench] = StateSpace(self.A, self.B @ np.asarray(self.wrench),
+                                                    self.end_dofs)
+        return self._systems[self.wrench]
+
+    @property
+    def unit_load(self):
+        """Reduced load vector of the current test's unit wrench."""
+        load = np.zeros(self.K.shape[0])
+        load[self.end_dofs] = self.wrench
+        return load
+
     def discretisation(self, dt, frequency_hz=0.0):
-        """The cached exact step for period dt [s] (harmonic hold at frequency_hz > 0)."""
-        key = (round(dt, 15), float(frequency_hz))
+        """The cached exact step for period dt [s] (harmonic hold at frequency_hz > 0) under
+        the current test's unit wrench."""
+        key = (round(dt, 15), float(frequency_hz), self.wrench)
         if key not in self._cache:
             self._cache[key] = discretise(self.system, dt, 2.0 * np.pi * frequency_hz)
         return self._cache[key]
@@ -128,13 +146,14 @@ class ComponentSimulator:
     def step(self, sample):
         """Advance to ``sample`` (a LoadSample); return the loaded end's motion [m, rad]."""
         if sample.test_start:
+            self.wrench = self.fixed_wrench or sample.wrench
             self.reset(sample.force, at_equilibrium=sample.phase == "preload")
         else:
             harmonic = sample.kind in ("harmonic", "sweep")
             d = self.discretisation(sample.dt, sample.frequency_hz if harmonic else 0.0)
             self.state = d.Phi @ self.state + d.gamma0 * self.force + d.gamma1 * sample.force
             self.force = float(sample.force)
-        return self.state[self.system.end_dofs]
+        return self.state[self.end_dofs]
 
 
 def harmonic_peak_motion(reduced, frequency_hz, amplitude=1.0):

@@ -1,7 +1,8 @@
 """``motoflex compare A.json B.json``: two identifications side by side (issue 17).
 
 To hold a virtual bench against a real one: l, beta, b, k, c, J of the static, torsion and
-bending models and k_t, k_b (eq. 12) of both files (``motoflex identify --out``, with or
+bending models, k_t, k_b (eq. 12) and l, beta, b, k, c of the principal hinges (beyond the
+paper, in their order) of both files (``motoflex identify --out``, with or
 without ``--measured``), with their difference in units of the combined uncertainty,
 z = (A - B) / sqrt(s_A^2 + s_B^2), s = half the 95 % interval / 1.96 (the intervals are
 value +/- 1.96 s, :mod:`motoflex_ros.identify.uncertainty`). |z| > 2: the two differ beyond
@@ -83,7 +84,51 @@ def compare_results(data_a, data_b, path_a="A", path_b="B"):
                     rows.append(_row(label, model, key, ea, eb))
         for key in ("k_t", "k_b"):
             rows.append(_row(label, "eq. 12", key, ra, rb))
+        ha, hb = _principal_hinges(ra), _principal_hinges(rb)
+        for i in range(max(len(ha), len(hb))):
+            ea, eb = (ha[i] if i < len(ha) else None), (hb[i] if i < len(hb) else None)
+            for key in QUANTITIES[:5]:
+                rows.append(_row(label, f"principal {i + 1}", key, ea, eb))
     return rows
+
+
+def _number_or_null(value):
+    return value is None or (isinstance(value, (int, float)) and not isinstance(value, bool))
+
+
+def _check_entry(entry, keys, path, where):
+    """ConfigError naming the file and the dotted key where a model (or a component's eq. 12
+    values) of a result is not shaped as ``motoflex identify --out`` writes it: a mapping of
+    numbers (or null) with ``ci`` a mapping of [low, high] pairs."""
+    if entry is None:
+        return
+    if not isinstance(entry, dict):
+        raise ConfigError(path, where, f"expected a mapping (or null), got "
+                                       f"{type(entry).__name__}")
+    for key in keys:
+        if not _number_or_null(entry.get(key)):
+            raise ConfigError(path, f"{where}.{key}", f"expected a number or null, got "
+                                                      f"{type(entry.get(key)).__name__}")
+    ci = entry.get("ci")
+    if ci is None:
+        return
+    if not isinstance(ci, dict):
+        raise ConfigError(path, f"{where}.ci", f"expected a mapping {{quantity: [low, high]}}, "
+                                               f"got {type(ci).__name__}")
+    for key in keys:
+        pair = ci.get(key)
+        if pair is not None and (not isinstance(pair, list) or len(pair) != 2 or
+                                 not all(map(_number_or_null, pair))):
+            raise ConfigError(path, f"{where}.ci.{key}", "expected [low, high]: two numbers "
+                                                         "(or null)")
+
+
+def _principal_hinges(result):
+    """The principal hinges of a result (issue 22; [] when not identified or absent)."""
+    principal = result.get("principal")
+    if not isinstance(principal, dict) or not principal.get("identified"):
+        return []
+    return list(principal.get("hinges") or [])
 
 
 def _load(path):
@@ -93,6 +138,9 @@ def _load(path):
         if not isinstance(result, dict) or "static" not in result:
             raise ConfigError(path, str(name), "not an identification result (no 'static'); "
                                                "give files of motoflex identify --out")
+        for model in MODELS:
+            _check_entry(result.get(model), QUANTITIES, path, f"{name}.{model}")
+        _check_entry(result, ("k_t", "k_b"), path, str(name))
     return data
 
 

@@ -1,9 +1,12 @@
 """``motoflex identify``: the bench campaign offline (no ROS), per component.
 
 Static test, harmonic tests at the first torsion and bending frequencies, the sweep and the
-modal test (Passigato et al. 2023, Sect. 4.2); prints a table or, with --json, the results
-{component: {"static", "torsion", "bending", "k_t", "k_b", "sweep", ...}} (angles rad, lengths
-m, stiffness N m/rad), optionally writes them to a YAML/JSON file and the Figs. 5-7 plots.
+modal test (Passigato et al. 2023, Sect. 4.2), and beyond the paper the two moment tests of
+the principal hinges (:mod:`motoflex_ros.identify.principal`; their metric from the touring
+motorcycle's bodies each loaded end carries); prints a table or, with --json, the results
+{component: {"static", "torsion", "bending", "k_t", "k_b", "sweep", "principal", ...}} (angles
+rad, lengths m, stiffness N m/rad), optionally writes them to a YAML/JSON file and the Figs.
+5-7 plots.
 
 ``--measured FILE --bench BENCH.yaml``: the same identification of a physical rig's
 measurements (a CSV file or a rosbag2 folder), without a finite-element model
@@ -97,10 +100,39 @@ def _table(results, stream=None):
     print_table(["component", "test", "l [m]", "beta [rad]", "b [m]", "k [N m/rad]",
                  "k 95 % interval", "f [Hz]"], rows, stream)
     _modal_table(results, stream)
+    _principal_table(results, stream)
     for name, comp in results.items():
         if comp.get("split_identifiable") is False:
             stream.write(f"warning: {name}: k_t, k_b not identifiable: "
                          f"{comp['split_problem']}\n")
+
+
+def _principal_table(results, stream):
+    """The principal hinges (beyond the paper) with the three directions' lambda and f; a note
+    per component where they are not identified."""
+    rows, notes = [], []
+    for name, comp in results.items():
+        p = comp.get("principal")
+        if not p:
+            continue
+        if not p["identified"]:
+            notes.append(f"note: {name}: principal hinges not identified: {p['problem']}\n")
+            continue
+        for i, h in enumerate(p["hinges"]):
+            rows.append([name, f"principal {i + 1}", f"{h['l']:.4f}", f"{h['beta']:.4f}",
+                         f"{h['b']:.4f}", _number(h["k"]), format_interval(h["ci"].get("k")),
+                         _number(p["f_hz"][i], ".4g")])
+        dropped = ", ".join(f"{f:.4g}" for f in p["f_hz"][len(p["hinges"]):]
+                            if f is not None and math.isfinite(f))
+        notes.append(f"{name}: principal directions lambda = "
+                     f"{', '.join(f'{v:.4g}' for v in p['lambda_s2'])} s^2; kept "
+                     f"{p['n_hinges']} (dropped f: {dropped or 'none'} Hz)\n")
+    if rows:
+        stream.write("\n")
+        print_table(["component", "hinge", "l [m]", "beta [rad]", "b [m]", "k [N m/rad]",
+                     "k 95 % interval", "f carried [Hz]"], rows, stream)
+    for note in notes:
+        stream.write(note)
 
 
 def _modal_table(results, stream):
@@ -177,7 +209,7 @@ def _measured_summary(measured, stream=None):
              f"{e['amplitude_n']:.4g}", "yes" if e["used"] else "no"]
             for e in measured["tests"]]
     stream.write("\n")
-    print_table(["test", "kind", "model", "t start [s]", "t end [s]", "f [Hz]", "load [N]",
+    print_table(["test", "kind", "model", "t start [s]", "t end [s]", "f [Hz]", "load [N|N m]",
                  "used"], rows, stream)
     c = measured["counts"]
     stream.write(f"\n{measured['frames']} frames of {measured['markers']} markers; dropped: "
@@ -196,12 +228,16 @@ def run(args):
     if args.measured:
         return run_measured(args)
     from motoflex_ros.bench.campaign import identify_components
-    components = args.component or list(DEFAULT_COMPONENTS)
+    from motoflex_ros.study.variants import carried_inertias
     if args.out:
         check_new_file(args.out, args.force)
+    components, carried = carried_inertias(args.component or list(DEFAULT_COMPONENTS))
+    if args.protocol:   # a bad protocol is refused before the work (and its progress) starts
+        from motoflex_ros.bench.protocols import load_protocol
+        load_protocol(args.protocol)
     with progress_bar(len(components), "bench identification", "component") as bar:
         runs = identify_components(components, args.protocol, args.noise, args.seed,
-                                   progress=lambda _name: bar.update(1))
+                                   progress=lambda _name: bar.update(1), carried=carried)
     results = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
     if args.out:
         write_results(args.out, results)

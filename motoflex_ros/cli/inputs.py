@@ -17,19 +17,22 @@ COMPONENTS = MOTORCYCLE_COMPONENTS
 _USE = "command line"
 
 
-def identification_results(path=None, components=COMPONENTS, seed=0):
+def identification_results(path=None, components=COMPONENTS, seed=0, vehicle="touring"):
     """{component: results} from a YAML/JSON file of ``motoflex identify --out``, or, without a
     file, from running the offline bench campaign (seeded) for ``components`` (names, files or
-    structures Components)."""
+    structures Components), the principal hinges in the metric of what ``vehicle``'s bodies
+    hang from each loaded end."""
     if path:
         from motoflex_ros.identify.results import load_results_file
         return load_results_file(Path(path))
     from motoflex_ros.bench.campaign import identify_components
     from motoflex_ros.cli.output import progress_bar
+    from motoflex_ros.study.variants import carried_inertias
     print("running the bench identification ...", file=sys.stderr)
+    components, carried = carried_inertias(components, vehicle)
     with progress_bar(len(components), "bench identification", "component") as bar:
-        runs = identify_components(list(components), seed=seed,
-                                   progress=lambda _name: bar.update(1))
+        runs = identify_components(components, seed=seed,
+                                   progress=lambda _name: bar.update(1), carried=carried)
     return {name: run.identification.to_dict() for name, (_, run) in runs.items()}
 
 

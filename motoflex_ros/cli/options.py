@@ -59,13 +59,16 @@ def _shows_default(action):
 
 def state_defaults(parser):
     """Append "(default: X)" to the help of every option of ``parser`` and its sub-parsers
-    whose default is a value (not None, False or an empty list) and whose help does not say."""
+    that takes a value whose default is a value (not None, False or an empty list) and whose
+    help does not say. A flag (store_true, store_false: no value) is off unless given, which
+    its help says; its ``dest`` default (True for --no-compute) is no default to show."""
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
             for sub in action.choices.values():
                 state_defaults(sub)
             continue
-        if action.help in (None, argparse.SUPPRESS) or not action.option_strings:
+        if action.help in (None, argparse.SUPPRESS) or not action.option_strings \
+                or action.nargs == 0:
             continue
         default = action.default
         if default is None or default is False or default == [] or default is argparse.SUPPRESS:

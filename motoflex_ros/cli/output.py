@@ -4,7 +4,7 @@ import sys
 from pathlib import Path
 
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.files import atomic_write_text
+from motoflex_ros.files import OutputError, atomic_write_text, check_output_path
 from motoflex_ros.results_file import to_jsonable
 
 __all__ = ["emit_json", "to_jsonable", "atomic_write_text", "print_table", "add_force_option",
@@ -18,11 +18,17 @@ def add_force_option(parser):
 
 
 def check_new_file(path, force, option="--out"):
-    """ConfigError naming ``option`` when ``path`` exists (and ``force`` is false) or is a
-    directory, checked before any work: nothing is overwritten silently."""
+    """ConfigError naming ``option`` when ``path`` exists (and ``force`` is false); an
+    OutputError when it is not a regular file (a device, FIFO, socket or directory: refused
+    even with ``force``) or its folder is a file. Checked before any work: nothing is
+    overwritten silently, and nothing but a regular file ever is."""
     path = Path(path)
     if path.is_dir():
         raise ConfigError("command line", option, f"{path} is a directory; give a file name")
+    try:
+        check_output_path(path)
+    except OutputError as exc:
+        raise ConfigError("command line", option, str(exc)) from None
     if path.exists() and not force:
         raise ConfigError("command line", option, f"{path} exists; give --force to replace "
                                                   f"it, or another file name")
@@ -49,7 +55,8 @@ def print_table(header, rows, stream=None):
 
 
 def progress_bar(total, desc, unit):
-    """The verbs' progress bar: tqdm on stderr (stdout keeps the table or the JSON alone, so it
-    shows with --json too); off when stderr is not a terminal (tqdm's disable=None)."""
-    from tqdm import tqdm
-    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, disable=None)
+    """The verbs' progress bar on stderr (stdout keeps the table or the JSON alone, so it
+    shows with --json too): live on a terminal, a line per 10 % in a log
+    (:mod:`motoflex_ros.progress`)."""
+    from motoflex_ros.progress import progress_bar as bar
+    return bar(total=total, desc=desc, unit=unit)

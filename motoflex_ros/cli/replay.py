@@ -7,12 +7,14 @@ itself on /rig/ready (otherwise a listener that joins late misses the first mess
 --identify FILE: replays the bench topics into a fresh identification node on a private domain
 and writes its results to FILE (the format of ``motoflex identify --out``), which reproduces
 the live run's identification.json. A run whose status.json is not "complete" (failed,
-interrupted, killed) is refused unless --allow-incomplete.
+interrupted, killed) is refused unless --allow-incomplete. Every chunk's CRC is checked before
+anything is published (a corrupt bag: an error naming the chunk and its byte offset); a bag
+written by ``motoflex bag repair`` is replayed with a warning that says so.
 """
 from motoflex_ros.cli.output import add_force_option, check_new_file
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
-__all__ = ["register", "run", "bag_components"]
+__all__ = ["register", "run", "bag_components", "replay_logs"]
 
 CANONICAL = MOTORCYCLE_COMPONENTS
 
@@ -61,10 +63,13 @@ def run(args):
         raise MotoflexError(f"--rate {rate:g} is out of range [0, 1000]")
     if args.identify:
         check_new_file(args.identify, args.force, "--identify")
-    info = bag_info(args.bag)
+    info = bag_info(args.bag, verify=True)   # every chunk's CRC, before anything is published
     incomplete = require_complete(info.path, args.allow_incomplete)
     if incomplete:
         print(f"warning: {incomplete}; replayed anyway (--allow-incomplete)", file=sys.stderr)
+    if info.repaired:
+        print(f"warning: {info.path} is a repaired bag, not as recorded: {info.repaired}",
+              file=sys.stderr)
     if args.identify:
         return _identify(info, rate, args.identify)
     from motoflex_ros.nodes.bag_replay import BagReplay
@@ -76,6 +81,14 @@ def run(args):
     if args.wait_for:
         params += ["-p", f"wait_for:={list(args.wait_for)!r}"]
     return run_node(BagReplay, ["motoflex_replay", "--ros-args", *params])
+
+
+def replay_logs(out):
+    """Where a failed ``replay --identify OUT`` keeps its node logs: OUT's folder,
+    ``<OUT stem>_replay/log/<node>.log``."""
+    from pathlib import Path
+    out = Path(out)
+    return out.parent / f"{out.stem}_replay"
 
 
 def _identify(info, rate, out):
@@ -93,7 +106,9 @@ def _identify(info, rate, out):
              NodeSpec("bag_replay", {"bag": str(info.path), "rate": rate,
                                      "wait_for": ["identification"],
                                      "exclude": ["/rig/", "/identification/", "/vehicle/"]})]
-    with work_folder("motoflex_run_") as work_dir:   # removed at the end
+    # removed at the end; on a failure the node logs are kept beside the output (not in
+    # ~/.ros/log), and the message names them there
+    with work_folder("motoflex_run_", keep_logs_in=replay_logs(out)) as work_dir:
         run = run_graph(specs, "bag_replay", info.duration_ns / 1e9, work_dir=work_dir,
                         finishers=["identification"])
     print(f"identified {', '.join(components)} from {info.path} -> {out} "

@@ -34,6 +34,9 @@ def run(args):
         raise ConfigError("command line", "--mode-speed-kmh",
                           f"must be in (0, 400] km/h, got {args.mode_speed_kmh:g}")
     if args.out is not None:
+        if args.out.suffix != ".rrd":   # the viewer and `rerun rrd verify` go by the suffix
+            raise ConfigError("command line", "--out",
+                              f"a rerun recording ends in .rrd, got {str(args.out)!r}")
         check_new_file(args.out, args.force)
     vehicle = None if args.vehicle == "none" else args.vehicle
     path, converted = write_recording(args.bag, args.out, vehicle, progress=True,

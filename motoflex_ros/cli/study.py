@@ -3,7 +3,7 @@
     motoflex study sensitivity [--levels 2] [--range-rel 0.10] [--scheduler ADDRESS|local]
                                [--identified FILE] [--nominal identified|table2]
                                [--vehicle touring] [--step-kmh 1] [--json] [--plot DIR]
-                               [--model lumped|flexible]
+                               [--model lumped|flexible] [--extra-range-kmh LO HI ...]
 
 ``sensitivity``: full factorial over the six stiffnesses of the decomposed lumped motorcycle
 (k_tf, k_bf, k_ta, k_ba, k_ts, k_bs) at +/- range around the nominal values, weave and wobble
@@ -12,12 +12,20 @@ ANOVA main-effect shares and Pearson coefficients (eqs. 16-17). --json prints {"
 "indices": {"weave_low": [...], ...}, "anova_main_share", "pearson"} (null where an index does
 not vary). --plot DIR writes the Fig. 10 bar chart and the runs' weave/wobble real parts.
 Without --identified the bench identification runs first (motoflex identify); --nominal table2
-takes k_t, k_b from the paper's Table 2 instead (axes still from the identification).
+takes k_t, k_b from the paper's Table 2 instead (axes still from the identification);
+--nominal principal runs the factorial on the principal hinges' stiffnesses (the principal
+variant; each factor named after the paper's one its axis stands for, :func:`motoflex_ros.study.
+motorcycle.principal_study`), with --model flexible its Pearson coefficients beside the flexible
+study's.
 --model flexible runs the same design on the flexible motorcycle (each factor scales the modal
 stiffness of its component's first torsion or bending mode of the clamped model,
 :mod:`motoflex_ros.study.flexible_sensitivity`; default 5 km/h steps) and the lumped study on
 the same speeds; --json adds "definition", "agreement" ({index: {factor: {"lumped",
 "flexible", "difference", "verdict"}}}) and "lumped" (the lumped study's JSON).
+--extra-range-kmh LO HI (repeatable, inside 40-210 km/h) adds the indices of that speed range,
+named "<mode>_<LO>-<HI>kmh" (e.g. wobble_40-95kmh), to the tables, ANOVA, Pearson and JSON
+(beyond the paper: eq. 13 over 40-100 km/h sits at 100 km/h, where the +/-10 % wobble curves
+of several factors cross).
 """
 import argparse
 import sys
@@ -56,16 +64,31 @@ def _register_sensitivity(sub):
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on Dask: a scheduler address (tcp://host:8786) or 'local'")
     add_study_inputs(p)
-    p.add_argument("--nominal", choices=("identified", "table2"), default="identified",
-                   help="nominal k_t, k_b: identified (default) or the paper's Table 2")
+    p.add_argument("--nominal", choices=("identified", "table2", "principal"),
+                   default="identified",
+                   help="nominal k_t, k_b: identified (default) or the paper's Table 2; "
+                        "principal: the factorial on the principal hinges' stiffnesses (the "
+                        "principal variant, beyond the paper)")
     p.add_argument("--step-kmh", type=float, default=None,
                    help="speed step [km/h] (default 1; 5 with --model flexible)")
     p.add_argument("--model", choices=("lumped", "flexible"), default="lumped",
                    help="lumped: the decomposed lumped motorcycle (the paper's); flexible: the "
                         "superelements' modal stiffnesses scaled, with the agreement table")
+    p.add_argument("--extra-range-kmh", type=float, nargs=2, action="append", default=[],
+                   metavar=("LO", "HI"),
+                   help="also index this speed range [km/h] (inside 40-210; repeatable)")
     p.add_argument("--json", action="store_true", help="print JSON only")
     p.add_argument("--plot", metavar="DIR", help="write the Fig. 10 bar chart and curves (PNG)")
     p.set_defaults(func=run_sensitivity_verb)
+
+
+def extra_ranges(args):
+    """The --extra-range-kmh pairs [km/h]; ConfigError unless 40 <= LO < HI <= 210."""
+    for low, high in args.extra_range_kmh:
+        if not 40.0 <= low < high <= 210.0:
+            raise ConfigError(_ARGS, "--extra-range-kmh",
+                              f"need 40 <= LO < HI <= 210 km/h, got {low:g} {high:g}")
+    return [tuple(pair) for pair in args.extra_range_kmh]
 
 
 # study kinds: name -> function adding its parser (the accuracy study adds its own here)
@@ -125,12 +148,17 @@ def _plots(result, run_outputs, speeds, directory):
 
 def agreement(lumped, flexible, negligible=0.05):
     """{index: {factor: {"lumped", "flexible", "difference", "verdict"}}}: Pearson coefficients
-    of the lumped and the flexible study side by side; verdict 'same sign', 'opposite' or
-    'negligible' (both below ``negligible`` in size)."""
+    of the lumped and the flexible study side by side; verdict 'same sign', 'opposite',
+    'negligible' (both below ``negligible`` in size) or 'no such factor' (the lumped study has
+    none of that name: a principal variant without that hinge; lumped and difference None)."""
     out = {}
     for index, row in flexible.pearson.items():
         out[index] = {}
         for factor, rho_f in row.items():
+            if factor not in lumped.pearson[index]:
+                out[index][factor] = {"lumped": None, "flexible": float(rho_f),
+                                      "difference": None, "verdict": "no such factor"}
+                continue
             rho_l = lumped.pearson[index][factor]
             if max(abs(rho_l), abs(rho_f)) < negligible:
                 verdict = "negligible"
@@ -139,6 +167,10 @@ def agreement(lumped, flexible, negligible=0.05):
             out[index][factor] = {"lumped": float(rho_l), "flexible": float(rho_f),
                                   "difference": float(rho_f - rho_l), "verdict": verdict}
     return out
+
+
+def _signed(value):
+    return "n/a" if value is None else f"{value:+.3f}"
 
 
 def _flexible_output(args, result, lumped, study_run, speeds):
@@ -155,10 +187,11 @@ def _flexible_output(args, result, lumped, study_run, speeds):
         return 0
     sys.stdout.write(MODAL_STIFFNESS + "\n\n")
     _print_tables(result, study_run.seconds, sys.stdout, unit="scale of the modal stiffness")
-    sys.stdout.write("\nAgreement with the lumped (decomposed) study on the same speeds\n")
+    variant = "principal" if args.nominal == "principal" else "decomposed"
+    sys.stdout.write(f"\nAgreement with the lumped ({variant}) study on the same speeds\n")
     print_table(["index", "factor", "lumped rho", "flexible rho", "difference", "verdict"],
-                [[index, factor, f"{v['lumped']:+.3f}", f"{v['flexible']:+.3f}",
-                  f"{v['difference']:+.3f}", v["verdict"]]
+                [[index, factor, _signed(v["lumped"]), _signed(v["flexible"]),
+                  _signed(v["difference"]), v["verdict"]]
                  for index, row in table.items() for factor, v in row.items()], sys.stdout)
     return 0
 
@@ -166,30 +199,34 @@ def _flexible_output(args, result, lumped, study_run, speeds):
 def run_sensitivity_verb(args):
     """``motoflex study sensitivity``; returns the exit code."""
     from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL, full_factorial
-    from motoflex_ros.study.motorcycle import decomposed_study
+    from motoflex_ros.study.motorcycle import decomposed_study, principal_study
     from motoflex_ros.study.sensitivity import run_sensitivity
     from motoflex_ros.vehicle.model import load_vehicle
 
     full_factorial(PAPER_TABLE2_NOMINAL, args.levels, args.rel_range)  # check before the work
+    extra = extra_ranges(args)
     step = args.step_kmh if args.step_kmh is not None else (5.0 if args.model == "flexible"
                                                             else 1.0)
     speeds = study_speeds(step, 10.0)
     vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
     components = motorcycle_components(_COMPONENTS, component_roles(args.use))
-    identified = identification_results(args.identified, list(components.values()))
+    identified = identification_results(args.identified, list(components.values()),
+                                        vehicle=args.vehicle)
     if args.nominal == "table2":
         identified = _with_table2(identified)
-    setup = decomposed_study(vehicle, components, identified, speeds)
+    lumped_study = principal_study if args.nominal == "principal" else decomposed_study
+    setup = lumped_study(vehicle, components, identified, speeds)
     try:
         result, study_run = run_sensitivity(setup.study, setup.nominal, speeds, args.levels,
-                                            args.rel_range, args.scheduler, progress=True)
+                                            args.rel_range, args.scheduler, progress=True,
+                                            extra_ranges_kmh=extra)
         if args.model == "flexible":
             from motoflex_ros.study.flexible_sensitivity import flexible_study
             lumped = result
             flexible = flexible_study(vehicle, components, identified, speeds)
             result, study_run = run_sensitivity(flexible.study, flexible.nominal, speeds,
                                                 args.levels, args.rel_range, args.scheduler,
-                                                progress=True)
+                                                progress=True, extra_ranges_kmh=extra)
     except OSError as exc:  # includes connection and timeout errors of the Dask client
         raise ConfigError(_ARGS, "--scheduler", f"cannot use {args.scheduler}: {exc}") from None
     if args.model == "flexible":

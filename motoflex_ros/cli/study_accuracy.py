@@ -188,7 +188,8 @@ def run_accuracy(args):
     vehicle = load_vehicle(resolve_config("vehicles", args.vehicle))
     components = motorcycle_components(roles=component_roles(args.use))
     needed = [n for n in components if n in cases or "all" in cases]
-    identified = identification_results(args.identified, [components[n] for n in needed])
+    identified = identification_results(args.identified, [components[n] for n in needed],
+                                        vehicle=args.vehicle)
     with progress_bar(len(cases) * (1 + len(ACCURACY_VARIANTS)), "models", "model") as bar:
         result = accuracy_study(vehicle, components, identified, speeds, cases=cases,
                                 progress=lambda: bar.update(1), vehicle_load_speed=load_speed,

@@ -1,9 +1,12 @@
 """``motoflex view bags/<run> [--web]``: open a run's rerun recording in the viewer.
 
 Native: spawns the rerun viewer on bags/<run>/<run>.rrd (converting the bag first if the .rrd
-does not exist yet). ``--web``: serves the web viewer on 127.0.0.1 only, prints the address and
-serves until Ctrl-C. The viewer runs with usage analytics off in a configuration folder of its
-own (:mod:`motoflex_ros.record.rerun_private`): the user's rerun configuration is neither read
+does not exist yet), its gRPC server bound to 127.0.0.1 (rerun's default is 0.0.0.0:9876) on
+a free port (or ``--grpc-port``); without a display (Linux: no DISPLAY, WAYLAND_DISPLAY or
+WAYLAND_SOCKET) it refuses in one line and points to ``--web``. ``--web``: serves the web
+viewer on 127.0.0.1 only, prints the address and serves until Ctrl-C. The viewer runs with
+usage analytics off in a configuration folder of its own
+(:mod:`motoflex_ros.record.rerun_private`): the user's rerun configuration is neither read
 nor written. ``--telemetry`` runs it with the user's configuration as it is.
 """
 import contextlib
@@ -17,7 +20,7 @@ from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
 
-__all__ = ["register", "run", "web_address", "free_port"]
+__all__ = ["register", "run", "web_address", "free_port", "native_command", "check_display"]
 
 READY_TIMEOUT_S = 60.0
 
@@ -49,6 +52,20 @@ def web_address(web_port, grpc_port):
     """URL of the web viewer connected to the recording's gRPC proxy (both on 127.0.0.1)."""
     return (f"http://127.0.0.1:{web_port}/?url=rerun%2Bhttp%3A%2F%2F127.0.0.1%3A{grpc_port}"
             "%2Fproxy")
+
+
+def native_command(rerun, rrd, grpc_port):
+    """The native viewer's command line: its gRPC server on 127.0.0.1:``grpc_port`` only."""
+    return [rerun, "--bind", "127.0.0.1", "--port", str(grpc_port), str(rrd)]
+
+
+def check_display(environ=os.environ, platform=sys.platform):
+    """MotoflexError when the native viewer has no display to open a window on (Linux)."""
+    if platform.startswith("linux") and not any(
+            environ.get(k) for k in ("DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET")):
+        raise MotoflexError("no display for the native viewer (DISPLAY and WAYLAND_DISPLAY "
+                            "are not set): use 'motoflex view RUN --web' and open the address "
+                            "it prints in a browser")
 
 
 def _recording(folder):
@@ -115,11 +132,14 @@ def run(args):
     from motoflex_ros.record.rerun_readback import rerun_executable
     from motoflex_ros.report.run_folder import run_folder
     folder = run_folder(args.run)
+    if not args.web:
+        check_display()
     rrd = _recording(folder)
     rerun = rerun_executable()
     with _environment(rerun, args.telemetry) as env:
         if not args.web:
-            return subprocess.call([rerun, str(rrd)], env=env)
+            return subprocess.call(native_command(rerun, rrd, args.grpc_port or free_port()),
+                                   env=env)
         return _serve(rerun, rrd, args, env)
 
 

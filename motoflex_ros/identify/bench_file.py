@@ -8,6 +8,11 @@ keys::
     loaded_end: [0.60, 0.0, 0.0]      # q0 [m], clamp frame, unloaded
     markers: from_data                 # or [[dx, dy, dz], ...] offsets from q0 [m]
     sensor: {noise_m: 5.0e-6, latency_s: 0.0}
+    carried:                           # optional: for the principal hinges
+      mass_kg: 20.1
+      com_m: [0.62, 0.0, -0.05]        # clamp frame [m]
+      inertia_kg_m2: {xx: 0.9, yy: 1.4, zz: 0.5}   # about the centre of mass (xy, xz, yz: 0)
+      passes_moment: true              # false: a spherical joint at q0 (only the mass counts)
 
 ``bench`` names the component (results are filed under it; the default topic names of a bag
 or a live rig are ``/bench/<bench>/load`` and ``/bench/<bench>/markers/measured``). The
@@ -18,15 +23,20 @@ their mean positions over the samples before the first load (a quiet lead-in of 
 :data:`MIN_REFERENCE_FRAMES` frames). ``sensor.noise_m`` [m]: the marker noise (standard
 deviation per coordinate; used to tell a motion from noise, never for the intervals, which come
 from the scatter of the data); ``sensor.latency_s`` [s]: how much later than the capture a
-marker frame is stamped (CSV ``t``, message header stamps).
+marker frame is stamped (CSV ``t``, message header stamps). ``carried``: what hangs from the
+loaded end in the vehicle (the front assembly's wheel carrier and wheel, the swingarm's
+wheel): the metric of the principal hinges (:mod:`motoflex_ros.identify.principal`); without
+it they are reported as not identified.
 """
 import re
 from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.config import Field, load_yaml, number, validate
+from motoflex_ros.config import Field, load_yaml, number, positive, shown, validate
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.identify.principal import CarriedInertia
+from motoflex_ros.inertia import check_inertia, inertia_matrix
 
 __all__ = ["BenchFile", "load_bench", "bench_from_dict", "check_marker_spread", "FROM_DATA",
            "MIN_REFERENCE_FRAMES", "MIN_MARKERS", "MAX_NOISE_M", "MIN_ARM_M",
@@ -59,13 +69,23 @@ BENCH_SCHEMA = Field("mapping", fields={
                                                  f"{MAX_NOISE_M:g}]"),
         "latency_s": number(0.0, 1.0, help="stamp minus capture time [s] in [0, 1]"),
     }),
+    "carried": Field("mapping", required=False, default=None, fields={
+        "mass_kg": positive(1e5, help="carried mass [kg] > 0"),
+        "com_m": Field("vec3", -MAX_SIZE_M, MAX_SIZE_M, help="its centre of mass [m], clamp "
+                                                             "frame"),
+        "inertia_kg_m2": Field("mapping", help="{xx, yy, zz[, xy, xz, yz]} about the centre "
+                                               "of mass [kg m^2]", fields={
+            name: number(-1e5, 1e5, required=name in ("xx", "yy", "zz"), default=0.0)
+            for name in ("xx", "yy", "zz", "xy", "xz", "yz")}),
+        "passes_moment": Field("bool", required=False, default=True),
+    }),
 })
 
 
 @dataclass(frozen=True)
 class BenchFile:
     """A validated bench file: name, q0 [m], marker offsets (n, 3) [m] or None (from the data),
-    noise_m [m], latency_s [s] and the file it came from."""
+    noise_m [m], latency_s [s], the file it came from and the CarriedInertia (or None)."""
 
     name: str
     q0: np.ndarray
@@ -73,6 +93,7 @@ class BenchFile:
     noise_m: float
     latency_s: float
     source: str = "bench file"
+    carried: object = None
 
     @property
     def n_markers(self):
@@ -100,7 +121,7 @@ def _markers(value, source):
     if not isinstance(value, list):
         raise ConfigError(source, "markers", f"expected '{FROM_DATA}' or a list of >= "
                                              f"{MIN_MARKERS} offsets [dx, dy, dz] [m], got "
-                                             f"{value!r}")
+                                             f"{shown(value)}")
     if len(value) < MIN_MARKERS:
         raise ConfigError(source, "markers", f"expected at least {MIN_MARKERS} markers (a "
                                              f"rigid fit needs three that span a plane), got "
@@ -126,7 +147,18 @@ def bench_from_dict(data, source="bench file"):
                                                 f"clamp in the x-z plane, allowed >= "
                                                 f"{MIN_ARM_M:g} m (the line O-q0 of eqs. 3-7)")
     return BenchFile(data["bench"], q0, _markers(data["markers"], source),
-                     data["sensor"]["noise_m"], data["sensor"]["latency_s"], str(source))
+                     data["sensor"]["noise_m"], data["sensor"]["latency_s"], str(source),
+                     _carried(data["carried"], source))
+
+
+def _carried(data, source):
+    """CarriedInertia of the bench file's ``carried`` key (None without it)."""
+    if data is None:
+        return None
+    tensor = inertia_matrix(data["inertia_kg_m2"])
+    check_inertia(tensor, source, "carried.inertia_kg_m2")
+    return CarriedInertia(data["mass_kg"], np.array(data["com_m"], float), tensor,
+                          data["passes_moment"], f"{source}: carried")
 
 
 def load_bench(path):

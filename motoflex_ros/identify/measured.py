@@ -25,7 +25,11 @@ the virtual identification's (Passigato et al. 2023, Sect. 4.2; the same functio
   static compliance (G0 / G = 1 - r^2 + 2 j zeta r, r = omega / omega_n) when the response lags
   the load by 60-120 deg (a resonance), else omega_n = 2 pi f of the test (the test is run at the
   mode's frequency) and zeta undefined;
-- J, c by eqs. (10)-(11) with the intervals of omega_n and zeta propagated, k_t, k_b by eq. (12).
+- J, c by eqs. (10)-(11) with the intervals of omega_n and zeta propagated, k_t, k_b by eq. (12);
+- the principal hinges (:mod:`motoflex_ros.identify.principal`, beyond the paper): the moment
+  tests are static tests of the torque |M| (CSV mx, my, mz; WrenchStamped torque), labelled
+  moment_axial / moment_normal or found from the load; C from their holds and the static
+  test's with the loads as measured, in the metric of the bench file's ``carried`` inertia.
 
 Every value has the virtual identification's 95 % interval (from the scatter of the data);
 the static one includes the scatter of a reference taken from the data. The result has the
@@ -53,6 +57,7 @@ from motoflex_ros.identify.peaks import (
     peak_poses,
     unwrap_axis,
 )
+from motoflex_ros.identify.principal import MOMENT_TESTS, identify_principal, moment_axes
 from motoflex_ros.identify.results import (
     LEVEL,
     MEASURED_KEY,
@@ -191,13 +196,48 @@ def _check_rigid(data, bench, residual, reference_text):
 
 # --- readings --------------------------------------------------------------------------------
 
-def _static_reading(data, poses, seg, reference_frames):
+def _static_reading(data, poses, seg, reference_frames, load=None):
+    """StaticReading of a hold: the mean of ``load`` (default F_y) [N or N m], the mean pose."""
     sel = slice(seg.read_start, seg.read_stop)
     mean, cov = mean_and_covariance(poses[sel])
     if reference_frames is not None:   # the reference's own scatter shifts every pose
         cov = cov + mean_and_covariance(poses[reference_frames])[1]
-    return StaticReading(float(np.mean(data.force[sel])), mean, cov, seg.read_stop -
-                         seg.read_start)
+    load = data.force if load is None else load
+    return StaticReading(float(np.mean(load[sel])), mean, cov, seg.read_stop - seg.read_start)
+
+
+def _moment_tests(data, poses, q0, reference_frames):
+    """The moment tests of the principal hinges, found as static tests of the torque |M|
+    (labelled moment_axial / moment_normal, or not: then named after the nearer of the axes
+    along O-q0 and its normal). Returns ({name: StaticReading (amplitude |M| [N m])},
+    {name: unit wrench (6,), the hold's mean wrench over |M|}, report entries)."""
+    torque = np.linalg.norm(data.wrench[:, 3:], axis=1)
+    if not np.any(torque):
+        return {}, {}, []
+    try:
+        segments = find_tests(data.t, torque, data.labels, data.source, column="mx, my, mz")[0]
+    except MeasurementError:
+        return {}, {}, []
+    e0, normal = moment_axes(q0)
+    readings, units, report = {}, {}, []
+    for seg in segments:
+        if seg.kind != "static" or (seg.labelled and seg.name not in MOMENT_TESTS):
+            continue
+        wrench = data.wrench[seg.read_start:seg.read_stop].mean(axis=0)
+        amplitude = float(np.linalg.norm(wrench[3:]))
+        name = seg.name if seg.labelled else (
+            "moment_axial" if abs(wrench[3:] @ e0) >= abs(wrench[3:] @ normal)
+            else "moment_normal")
+        entry = seg.summary(data.t) | {"name": name, "kind": "moment",
+                                       "amplitude_n": amplitude}
+        if name in readings:
+            report.append(entry | {"used": False, "note": "another moment test about that "
+                                                          "axis (the first one is used)"})
+            continue
+        readings[name] = _static_reading(data, poses, seg, reference_frames, torque)
+        units[name] = wrench / readings[name].force
+        report.append(entry | {"used": True, "model": name})
+    return readings, units, report
 
 
 def _windows(data, seg):
@@ -448,6 +488,7 @@ def identify_measured(data, bench):
     """
     q0 = bench.q0
     segments, noise, threshold = find_tests(data.t, data.force, data.labels, data.source)
+    segments = [s for s in segments if not (s.labelled and s.name in MOMENT_TESTS)]
     loaded = np.flatnonzero(np.abs(data.force) > threshold)
     reference, ref_frames, ref_text = _reference(data, bench, int(loaded[0]))
     poses, residual = fit_poses(data.markers, reference, q0)
@@ -541,6 +582,12 @@ def identify_measured(data, bench):
             report.append(seg.summary(data.t) | {"used": False,
                                                   "note": "another static test (the first "
                                                           "one is used)"})
+    moment_readings, units, moment_report = _moment_tests(data, poses, q0, ref_frames)
+    report += moment_report
+    sel = slice(static_seg.read_start, static_seg.read_stop)
+    units["static"] = data.wrench[sel].mean(axis=0) / static_reading.force
+    principal = identify_principal({"static": static_reading, **moment_readings}, q0,
+                                   bench.carried, units)
     report.sort(key=lambda e: e["t_start"])
     counts = dict(data.counts)
     counts["decay_frames_filled"] = filled
@@ -552,6 +599,6 @@ def identify_measured(data, bench):
                 "tests": report, "notes": notes}
     return MeasuredIdentification(bench.name, static, models.get("torsion"),
                                   models.get("bending"), split, tuple(sweep), modal,
-                                  others_raw, measured)
+                                  others_raw, principal, measured)
 
 

@@ -22,11 +22,13 @@ file, the row and the column.
 """
 import csv
 import math
+from array import array
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.files import missing_file_text
 
 __all__ = ["MeasurementError", "row_text", "check_increasing", "LoadStream", "MarkerStream",
            "Measurements", "CSV_HEAD", "marker_columns", "read_csv", "write_csv", "synchronise",
@@ -43,6 +45,9 @@ BRIDGE_FACTOR = 3.5    # a load is interpolated across at most 3.5 typical load 
 MEDIAN_WINDOW = 9      # intervals around each one whose median is its typical interval
 RATE_CHANGE = 0.1      # sampling intervals 10 % apart: another rate
 MAX_CSV_BYTES = 2_000_000_000
+MAX_CSV_LINE = 1_000_000   # characters of one line (a row of 1,000 markers: about 60,000)
+MAX_MARKERS = 1_000        # markers of a CSV header
+TIME_RESOLUTION = 0.01     # coarsest stored time step, as a share of the sampling interval
 
 
 class MeasurementError(MotoflexError):
@@ -238,6 +243,9 @@ def _check_header(header, source):
             raise MeasurementError(source, f"{found} where column {len(CSV_HEAD) + i + 1} "
                                            f"must be '{name}' (marker columns m1_x,m1_y,m1_z,"
                                            f"m2_x,... in order)", 0, name)
+    if n > MAX_MARKERS:
+        raise MeasurementError(source, f"{n:,} markers in the header, at most {MAX_MARKERS:,}",
+                               0, f"m{MAX_MARKERS + 1}_x")
     if n < MIN_MARKERS:
         raise MeasurementError(source, f"{n} marker(s) in the header, at least {MIN_MARKERS} "
                                        f"needed (m1_* to m{MIN_MARKERS}_*): a rigid fit of "
@@ -246,73 +254,127 @@ def _check_header(header, source):
     return n
 
 
-def _column(values, name, source):
-    """Floats of one CSV column (strings); MeasurementError naming the first bad row."""
-    try:
-        out = np.array(values, dtype=float)
-    except ValueError:
-        out = None
-    if out is None or not np.all(np.isfinite(out)):
-        for row, text in enumerate(values, start=2):
-            try:
-                value = float(text)
-            except ValueError:
-                value = None
-            if value is None or not math.isfinite(value):
-                shown = "empty" if not text.strip() else f"'{text.strip()}'"
-                raise MeasurementError(source, f"{shown} is not a finite number (each of t, "
-                                               f"fx..mz and the marker coordinates must be "
-                                               f"one)", row - 1, name)
-    return out
+def _lines(stream, source):
+    """The lines of a text stream, each refused past MAX_CSV_LINE characters or with a NUL
+    character (a binary or sparse file) before more of the file is read: bounded memory."""
+    number = 0
+    while True:
+        line = stream.readline(MAX_CSV_LINE + 1)
+        if not line:
+            return
+        number += 1
+        if len(line) > MAX_CSV_LINE:
+            raise MeasurementError(source, f"line {number} is longer than {MAX_CSV_LINE:,} "
+                                           f"characters: not a CSV file of measurements")
+        if "\0" in line:
+            raise MeasurementError(source, f"line {number} holds a NUL character at character "
+                                           f"{line.index(chr(0)) + 1}: a binary (or sparse) "
+                                           f"file, not a CSV file")
+        yield line
+
+
+def _bad_cell(row, header, index, source):
+    """MeasurementError naming the first cell of a data row that is not a finite number."""
+    for k, text in enumerate(row):
+        if k == 1:
+            continue
+        try:
+            value = float(text)
+        except ValueError:
+            value = None
+        if value is None or not math.isfinite(value):
+            shown = "empty" if not text.strip() else f"'{text.strip()[:40]}'"
+            return MeasurementError(source, f"{shown} is not a finite number (each of t, "
+                                            f"fx..mz and the marker coordinates must be one)",
+                                    index, header[k])
+    return None
+
+
+def _data_rows(reader, header, source):
+    """(values (n, width - 1) floats without the label column, labels, n) of the data rows,
+    parsed as they are read: the row count is checked against the 'samples' limit at every
+    row, so a file of millions of rows is refused when its first row past the limit is read."""
+    from motoflex_ros.limits import check_limit, limit
+    width, allowed = len(header), limit("samples")
+    values, labels, blank = array("d"), [], None
+    for index, row in enumerate(reader, start=1):
+        if not any(c.strip() for c in row):
+            blank = index if blank is None else blank
+            continue
+        if blank is not None:   # a blank line between data rows
+            raise MeasurementError(source, f"empty, the header has {width} fields", blank)
+        if index > allowed:
+            check_limit("samples", index, source, "", f"the file's data rows (counted as "
+                                                      f"read, stopped at row {index:,})")
+        if len(row) != width:
+            missing = header[len(row)] if len(row) < width else None
+            raise MeasurementError(source, f"{len(row)} fields, the header has {width}" +
+                                   (f" (no value for '{missing}')" if missing else ""),
+                                   index, missing)
+        try:
+            parsed = [float(row[0]), *map(float, row[2:])]
+        except ValueError:
+            raise _bad_cell(row, header, index, source) from None
+        if not all(map(math.isfinite, parsed)):
+            raise _bad_cell(row, header, index, source)
+        values.extend(parsed)
+        labels.append(row[1].strip())
+    n = len(labels)
+    return np.frombuffer(values, float).reshape(n, width - 1), tuple(labels), n
+
+
+def check_time_resolution(t, source, rows, unit="row"):
+    """MeasurementError when the stamps t [s] are so large that a double stores them coarser
+    than TIME_RESOLUTION of the mean sampling interval (times shifted by 1e12 s keep only
+    0.1 ms: the intervals, and the decay tests with them, are lost)."""
+    if len(t) < 2:
+        return
+    step = (t[-1] - t[0]) / (len(t) - 1)
+    coarse = float(np.spacing(np.max(np.abs(t))))
+    if not coarse <= TIME_RESOLUTION * step:
+        raise MeasurementError(source, f"times up to {np.max(np.abs(t)):.6g} s are stored to "
+                                       f"{coarse:.2g} s only, more than {TIME_RESOLUTION:g} of "
+                                       f"the mean sampling interval {step:.3g} s: give t from "
+                                       f"the start of the record (subtract the first time)",
+                               int(rows[np.argmax(np.abs(t))]), "t", unit)
 
 
 def read_csv(path, latency_s=0.0):
-    """Measurements of a CSV file (module doc); ``latency_s`` [s] from the bench file."""
-    from pathlib import Path
+    """Measurements of a CSV file (module doc); ``latency_s`` [s] from the bench file.
 
-    from motoflex_ros.limits import check_limit
+    Read as a stream (a UTF-8 byte order mark is accepted): a line is refused past
+    MAX_CSV_LINE characters or with a NUL character, the rows past the 'samples' limit when
+    the first of them is read, before the rest of the file."""
+    from pathlib import Path
     path = Path(path)
     if not path.is_file():
-        raise MeasurementError(path, "file not found")
+        raise MeasurementError(path, missing_file_text(path))
     if path.stat().st_size > MAX_CSV_BYTES:
         raise MeasurementError(path, f"{path.stat().st_size} bytes is larger than "
                                      f"{MAX_CSV_BYTES} bytes")
     try:
-        with open(path, newline="", encoding="utf-8") as stream:
-            rows = list(csv.reader(stream))
+        with open(path, newline="", encoding="utf-8-sig") as stream:
+            reader = csv.reader(_lines(stream, path))
+            first = next(reader, None)
+            if first is None:
+                raise MeasurementError(path, "the file is empty (expected the header "
+                                             f"{','.join(CSV_HEAD)},m1_x,...)")
+            n_markers = _check_header(first, path)
+            header = [h.strip() for h in first]
+            data, labels, n = _data_rows(reader, header, path)
     except UnicodeDecodeError as exc:
-        raise MeasurementError(path, f"not a text CSV file (not UTF-8 at byte {exc.start})"
-                               ) from None
+        raise MeasurementError(path, f"not a text CSV file (not UTF-8 at byte {exc.start} "
+                                     f"of a read block)") from None
     except csv.Error as exc:
         raise MeasurementError(path, f"not a CSV file: {exc}") from None
-    if not rows:
-        raise MeasurementError(path, "the file is empty (expected the header "
-                                     f"{','.join(CSV_HEAD)},m1_x,...)")
-    header = [h.strip() for h in rows[0]]
-    n_markers = _check_header(rows[0], path)
-    body = rows[1:]
-    while body and not any(c.strip() for c in body[-1]):
-        body.pop()   # blank lines at the end
-    if not body:
+    if not n:
         raise MeasurementError(path, "no data rows after the header")
-    check_limit("samples", len(body), path, "", f"the file's {len(body)} rows")
-    width = len(header)
-    for i, row in enumerate(body, start=1):
-        if len(row) != width:
-            missing = header[len(row)] if len(row) < width else None
-            problem = (f"{len(row)} fields, the header has {width}" +
-                       (f" (no value for '{missing}')" if missing else ""))
-            raise MeasurementError(path, problem, i, missing)
-    columns = list(zip(*body))
-    data = {name: _column(list(columns[k]), name, path)
-            for k, name in enumerate(header) if name != "test"}
-    t = data["t"]
-    rows_index = np.arange(1, len(body) + 1)
+    t = data[:, 0].copy()
+    rows_index = np.arange(1, n + 1)
+    check_time_resolution(t, path, rows_index)
     check_increasing(t, path, rows_index)
-    wrench = np.column_stack([data[c] for c in WRENCH])
-    markers = np.column_stack([data[c] for c in marker_columns(n_markers)]).reshape(
-        len(body), n_markers, 3)
-    labels = tuple(label.strip() for label in columns[1])
+    wrench = np.ascontiguousarray(data[:, 1:7])
+    markers = np.ascontiguousarray(data[:, 7:]).reshape(n, n_markers, 3)
     loads = LoadStream(t, wrench, str(path), rows_index)
     frames = MarkerStream(t, markers, str(path), rows_index)
     if latency_s == 0.0:

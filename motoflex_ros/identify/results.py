@@ -8,15 +8,17 @@ the harmonic arm b, J and c by eqs. (10)-(11) with omega_n, zeta of the mode's e
 (:mod:`motoflex_ros.identify.uncertainty`); NaN where the scatter is unknown (a single sample or
 a single fitted window), null in JSON.
 """
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from motoflex_ros.errors import ConfigError, ProtocolError
 from motoflex_ros.identify.axis import axis_stiffness
+from motoflex_ros.identify.axis_model import AxisModel
 from motoflex_ros.identify.decay import match_pole
 from motoflex_ros.identify.decomposition import decompose_stiffness, split_problem
 from motoflex_ros.identify.peaks import axis_of_pose, unwrap_axis, wrap_axis
+from motoflex_ros.identify.principal import MOMENT_TESTS, identify_principal
 from motoflex_ros.identify.stiffness import modal_damping, modal_inertia, static_damping
 from motoflex_ros.identify.uncertainty import LEVEL, interval, propagate
 
@@ -27,7 +29,8 @@ __all__ = ["AxisModel", "ComponentIdentification", "identify_component", "static
 MODEL_TESTS = ("static", "torsion", "bending")
 """Tests the identification needs, by name: eqs. (8)-(12) use the static test and the harmonic
 tests named 'torsion' and 'bending'."""
-RESULT_KEYS = ("k_t", "k_b", "split_identifiable", "split_problem", "ci", "sweep", "modal")
+RESULT_KEYS = ("k_t", "k_b", "split_identifiable", "split_problem", "ci", "sweep", "modal",
+               "principal")
 """Keys of :meth:`ComponentIdentification.to_dict` besides the tests' own (:data:`MODEL_TESTS`
 and the other harmonic tests, by name): no test may be called like one of them."""
 MEASURED_KEY = "measured"
@@ -65,26 +68,10 @@ def results_source(identified):
 
 
 @dataclass(frozen=True)
-class AxisModel:
-    """A lumped model or axis: values by name (l [m], beta [rad], b [m], k [N m/rad], J
-    [kg m^2], c [N m s/rad], f_hz [Hz]), their intervals and bookkeeping (counts, flags)."""
-
-    values: dict
-    ci: dict
-    info: dict = field(default_factory=dict)
-
-    def __getitem__(self, key):
-        return self.values[key]
-
-    def to_dict(self):
-        """Values with their intervals (and counts) under 'ci'."""
-        return {**self.values, "ci": {**self.ci, "level": LEVEL, **self.info}}
-
-
-@dataclass(frozen=True)
 class ComponentIdentification:
     """All results of one component: static, torsion, bending models, k_t, k_b, the sweep,
-    other harmonic tests and the modal data (eigenvalue and free decay)."""
+    other harmonic tests, the modal data (eigenvalue and free decay) and the principal hinges
+    (a PrincipalIdentification, identified or not)."""
 
     name: str
     static: AxisModel
@@ -94,6 +81,7 @@ class ComponentIdentification:
     sweep: tuple
     modal: dict
     others: dict
+    principal: object
 
     @property
     def split_identifiable(self):
@@ -110,6 +98,8 @@ class ComponentIdentification:
                "ci": {**self.split.ci, "level": LEVEL},
                "sweep": [s.to_dict() for s in self.sweep], "modal": self.modal}
         out.update({name: m.to_dict() for name, m in self.others.items()})
+        if self.principal is not None:
+            out["principal"] = self.principal.to_dict()
         return out
 
 
@@ -260,8 +250,12 @@ def check_positive_k(name, test, model):
             f"or raise the load")
 
 
-def identify_component(name, readings, modes, q0):
+def identify_component(name, readings, modes, q0, carried=None):
     """ComponentIdentification from the readings of a campaign (by test name) and the modes.
+
+    ``carried``: the CarriedInertia whose metric gives the principal hinges
+    (:mod:`motoflex_ros.identify.principal`); without it, or without the moment tests, the
+    result says why they are not identified.
 
     ProtocolError when a test is missing, has too few peaks, or gives a k (eq. 8) that is not
     positive (a deflection lost in the sensor noise is no identification result).
@@ -285,7 +279,7 @@ def identify_component(name, readings, modes, q0):
                         models["torsion"][1], models["bending"][0].values, models["bending"][1])
     sweep, others = [], {}
     for test, r in readings.items():
-        if getattr(r, "n_peaks", 1) == 0:
+        if getattr(r, "n_peaks", 1) == 0 or test in MOMENT_TESTS:
             continue
         if getattr(r, "kind", None) == "sweep":
             values, _, ci, info = harmonic_axis(r)
@@ -295,4 +289,4 @@ def identify_component(name, readings, modes, q0):
             others[test] = AxisModel({"f_hz": float(r.frequency_hz), **values}, ci, info)
     return ComponentIdentification(name, static, models["torsion"][0], models["bending"][0],
                                    split, tuple(sweep), _modal(modes, readings.get("decay")),
-                                   others)
+                                   others, identify_principal(readings, q0, carried))

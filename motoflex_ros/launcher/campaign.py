@@ -18,7 +18,8 @@ from motoflex_ros.record.tf_bag import TF_LIVE, TF_STATIC_LIVE
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
            "bench_components",
-           "planned_duration", "RESULT_FILE", "VEHICLE_COMPONENTS", "VEHICLE_VARIANT"]
+           "planned_run", "campaign_inputs", "RESULT_FILE", "VEHICLE", "VEHICLE_COMPONENTS",
+           "VEHICLE_VARIANT"]
 
 RESULT_FILE = "identification.json"
 BENCH_LEAVES = ("load", "phase", "markers/true", "markers/measured", "pose", "structure")
@@ -35,6 +36,8 @@ class CampaignOutcome:
     wall_s: float
     domain_id: int
     vehicle: dict
+    inputs: dict = None
+    """{absolute path: SHA-256} of every input file the run read (pinned for the run)."""
 
 
 MODES = ("weave", "wobble", "capsize")
@@ -44,6 +47,8 @@ VEHICLE_TOPICS = ("/vehicle/eigenvalues", "/vehicle/joint_states", "/vehicle/bod
                                                                       "real_part")))
 
 VEHICLE_COMPONENTS = MOTORCYCLE_COMPONENTS
+VEHICLE = "touring"
+"""The vehicle (shipped name) the campaign's vehicle_simulator builds."""
 VEHICLE_VARIANT = "static"
 """The lumped variant (Sect. 5.2) the campaign's vehicle_simulator builds of the identified
 values; the campaign prints its weave and wobble and the report shows them."""
@@ -96,6 +101,7 @@ def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_fi
              "noise": -1.0 if noise is None else float(noise), "protocol": protocol or ""}
     workers = ["component_simulator", "displacement_sensor", "identification", "recorder"]
     vehicle = ([NodeSpec("vehicle_simulator", {"components": list(VEHICLE_COMPONENTS),
+                                               "vehicle": VEHICLE,
                                                "variant": VEHICLE_VARIANT})]
                if with_vehicle(components) else [])
     return vehicle + [
@@ -110,16 +116,36 @@ def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_fi
     ]
 
 
-def planned_duration(components, noise=None, protocol=None):
-    """Longest planned simulated time over the components [s] (tests may settle sooner)."""
+def planned_run(components, noise=None, protocol=None):
+    """(longest planned simulated time over the components [s] (tests may settle sooner),
+    number of bench tests over all components)."""
     from motoflex_ros.bench.actuator import PAUSE_S
     from motoflex_ros.bench.campaign import setup_campaign
-    longest = 0.0
+    longest, tests = 0.0, 0
     for name in components:
         plan = setup_campaign(name, protocol, noise).plan
         total = sum(t.max_samples / t.rate_hz for t in plan.tests)
         longest = max(longest, total + PAUSE_S * (len(plan.tests) - 1))
-    return longest
+        tests += len(plan.tests)
+    return longest, tests
+
+
+def campaign_inputs(components, noise=None, protocol=None):
+    """(:func:`planned_run`'s (duration [s], tests), {absolute path: SHA-256} of every file
+    the campaign's nodes read): each component, its protocol and the files they name, the
+    vehicle when it runs or when a component's principal hinges take their metric from it (as
+    the identification node's :func:`~motoflex_ros.nodes.bench_graph.campaign_setups` does);
+    read here once, so that the nodes can be held to the same bytes."""
+    from motoflex_ros.config import resolve_config
+    from motoflex_ros.input_pins import recording_inputs
+    from motoflex_ros.study.variants import carried_inertias
+    from motoflex_ros.vehicle.model import load_vehicle
+    with recording_inputs() as inputs:
+        planned = planned_run(components, noise, protocol)
+        carried_inertias(components)
+        if with_vehicle(components):
+            load_vehicle(resolve_config("vehicles", VEHICLE))
+    return planned, inputs
 
 
 def _diagnostic_array():
@@ -138,14 +164,15 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
     result_file = bag / RESULT_FILE
     specs = campaign_specs(components, bag, noise, seed, protocol, staged(result_file))
     start = time.monotonic()
+    (duration_s, tests), inputs = campaign_inputs(components, noise, protocol)
     finishers = ["vehicle_simulator"] if with_vehicle(components) else []
     # parameters and logs in a temporary folder, removed at the end; on a failure the logs
     # are kept in the bag's folder (work_folder)
     with work_folder("motoflex_campaign_", work_dir, keep_logs_in=bag) as work_dir:
-        run = run_graph(specs, "load_actuator", planned_duration(components, noise, protocol),
+        run = run_graph(specs, "load_actuator", duration_s, tests_total=tests,
                         work_dir=work_dir, progress=progress, finishers=finishers,
                         collect=[("vehicle/eigenvalues", _diagnostic_array())],
-                        namespace=namespace)
+                        namespace=namespace, pins=inputs)
         if not staged(result_file).is_file():
             raise RunFailed(f"the identification node wrote no {RESULT_FILE} in {bag}; its "
                             f"log: {work_dir / 'log' / 'identification.log'}")
@@ -162,4 +189,4 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
     vehicle = {s.name.split("/")[1]: {kv.key: json.loads(kv.value) for kv in s.values}
                for s in eig[-1].status} if eig else {}
     return CampaignOutcome(results, bag, result_file, time.monotonic() - start, run.domain_id,
-                           vehicle)
+                           vehicle, inputs)

@@ -13,12 +13,13 @@
   discovery reaches the subnet (``ROS_AUTOMATIC_DISCOVERY_RANGE=SUBNET``; add hosts beyond it
   with ``ROS_STATIC_PEERS``).
 """
+import re
 from importlib import resources
 from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
 
-__all__ = ["configure_dds", "loopback_profile", "MODE_ENV", "PROFILE_ENV"]
+__all__ = ["configure_dds", "loopback_profile", "MODE_ENV", "PROFILE_ENV", "peers_range"]
 
 MODE_ENV = "MOTOFLEX_DDS"
 MODES = ("loopback", "network")
@@ -31,6 +32,16 @@ FAST_DDS_RMWS = ("", "rmw_fastrtps_cpp", "rmw_fastrtps_dynamic_cpp")
 def loopback_profile():
     """Path of the shipped loopback profile."""
     return Path(str(resources.files("motoflex_ros") / "config" / "dds" / "loopback.xml"))
+
+
+def peers_range(env):
+    """(maxInitialPeersRange, profile path) of the loopback profile when ``env`` (configured)
+    uses it, else (None, None): how many participants of a domain its discovery reaches."""
+    ours = str(loopback_profile())
+    if env.get(PROFILE_ENV) != ours:
+        return None, None
+    found = re.search(r"<maxInitialPeersRange>\s*(\d+)", Path(ours).read_text())
+    return (int(found.group(1)) if found else 4), ours   # 4: Fast DDS's default
 
 
 def configure_dds(env):

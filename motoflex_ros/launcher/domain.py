@@ -18,7 +18,8 @@ from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
 
-__all__ = ["DomainLock", "DOMAIN_IDS", "DomainBusy", "requested_domain", "domain_in_use"]
+__all__ = ["DomainLock", "DOMAIN_IDS", "DomainBusy", "requested_domain", "domain_in_use",
+           "participants_in_domain"]
 
 DOMAIN_IDS = range(1, 102)
 MAX_DOMAIN_ID = 232  # the largest id whose DDS ports fit below 65536 (RTPS port mapping)
@@ -52,6 +53,15 @@ def _bound_udp_ports():
         except OSError:
             continue
     return ports
+
+
+def participants_in_domain(domain_id, ports=None):
+    """How many DDS participants of this machine are in the domain: ids whose metatraffic
+    unicast port (7400 + 250 d + 10 + 2 id) is bound."""
+    low = PORT_BASE + DOMAIN_GAIN * domain_id + 10
+    ports = _bound_udp_ports() if ports is None else ports
+    return sum(1 for port in ports if low <= port < low + DOMAIN_GAIN - 10 and
+               (port - low) % 2 == 0)
 
 
 def domain_in_use(domain_id, ports=None):

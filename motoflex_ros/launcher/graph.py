@@ -7,8 +7,10 @@ namespace, ``-r __ns:=<namespace>`` (its topics are relative: all of them move u
 which rclpy's time source reads, is remapped to <namespace>/clock); stdout and
 stderr go to ``<log_dir>/<node>.log``. The nodes write their publishers' GIDs to
 ``<work_dir>/endpoints`` and accept messages only from those
-(:mod:`motoflex_ros.nodes.endpoints`). Processes are ended by their own pid only: SIGINT, then
-SIGTERM, then SIGKILL after a grace period each.
+(:mod:`motoflex_ros.nodes.endpoints`). The run's inputs are pinned: the SHA-256 of every input
+the launcher read and of every params file it wrote go to ``<work_dir>/input_pins.json``,
+named in ``MOTOFLEX_INPUT_PINS`` for the nodes (:mod:`motoflex_ros.input_pins`). Processes are
+ended by their own pid only: SIGINT, then SIGTERM, then SIGKILL after a grace period each.
 """
 import os
 import signal
@@ -21,6 +23,7 @@ from pathlib import Path
 import yaml
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.input_pins import PINS_ENV, sha256_bytes, write_pins
 from motoflex_ros.launcher.dds import configure_dds
 from motoflex_ros.nodes.endpoints import ENDPOINTS_ENV
 
@@ -30,6 +33,21 @@ __all__ = ["NodeSpec", "NodeGraph", "NodeDied", "ros_env", "describe_exit", "nam
 
 class NodeDied(MotoflexError):
     """A node process ended while the run needed it."""
+
+
+STOPPED_LIMIT_S = 5.0
+"""How long a node's process may stay stopped (SIGSTOP, a debugger: state T) before the run
+fails naming it [s]; the other nodes' stall timeouts (30 s) would otherwise name the node that
+waits for it, not the one that stalled."""
+
+
+def process_state(pid):
+    """The state letter of process ``pid`` (R, S, D, T stopped, t traced, Z...), or None."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    return stat.rsplit(")", 1)[1].split()[0]
 
 
 @dataclass(frozen=True)
@@ -86,14 +104,16 @@ def describe_exit(code):
 class NodeGraph:
     """The processes of one run. Use as a context manager: leaving it stops every node."""
 
-    def __init__(self, specs, domain_id, work_dir, namespace=None):
+    def __init__(self, specs, domain_id, work_dir, namespace=None, pins=None):
         self.specs = tuple(specs)
+        self.pins = dict(pins or {})   # {absolute path: SHA-256} of the run's inputs
         self.domain_id = domain_id
         self.namespace = "/" + (namespace or "").strip("/")
         self.work_dir = Path(work_dir)
         self.log_dir = self.work_dir / "log"
         self.endpoints_dir = self.work_dir / "endpoints"
         self.procs = {}
+        self.stopped_since = {}   # {name: monotonic time it was first seen stopped}
 
     def start(self):
         """Write each node's params file and start its process."""
@@ -105,14 +125,21 @@ class NodeGraph:
             stale.unlink()
         env = ros_env(self.domain_id, self.log_dir)
         env[ENDPOINTS_ENV] = str(self.endpoints_dir)
+        commands = {}
         for spec in self.specs:
             params_file = params_dir / f"{spec.name}.yaml"
             params = {k: list(v) if isinstance(v, tuple) else v for k, v in spec.params.items()}
-            params_file.write_text(yaml.safe_dump(
-                {node_key(self.namespace, spec.name): {"ros__parameters": params}}))
-            cmd = [sys.executable, "-m", spec.module_name, "--ros-args",
-                   "-r", f"__node:={spec.name}", *namespace_args(self.namespace),
-                   "--params-file", str(params_file)]
+            text = yaml.safe_dump(
+                {node_key(self.namespace, spec.name): {"ros__parameters": params}}).encode()
+            params_file.write_bytes(text)
+            self.pins[str(params_file.resolve())] = sha256_bytes(text)
+            commands[spec.name] = [sys.executable, "-m", spec.module_name, "--ros-args",
+                                   "-r", f"__node:={spec.name}",
+                                   *namespace_args(self.namespace),
+                                   "--params-file", str(params_file)]
+        env[PINS_ENV] = str(write_pins(self.work_dir / "input_pins.json", self.pins))
+        for spec in self.specs:
+            cmd = commands[spec.name]
             with open(self.log_dir / f"{spec.name}.log", "wb") as log:
                 self.procs[spec.name] = subprocess.Popen(
                     cmd, env=env, stdout=log, stderr=subprocess.STDOUT,
@@ -124,12 +151,28 @@ class NodeGraph:
         return {n: p.returncode for n, p in self.procs.items() if p.poll() is not None}
 
     def check_alive(self, allowed=()):
-        """Raise NodeDied naming the first node that ended (except those in ``allowed``)."""
+        """Raise NodeDied naming the first node that ended (except those in ``allowed``), or
+        that has been stopped (SIGSTOP) for STOPPED_LIMIT_S."""
         for name, code in self.exited().items():
             if name not in allowed:
                 verb = "stopped before the run ended" if code == 0 else "died"
                 raise NodeDied(f"node '{name}' {verb} ({describe_exit(code)}); its log: "
                                f"{self.log_dir / (name + '.log')}: {self.log_tail(name)}")
+        self.check_stopped()
+
+    def check_stopped(self, limit=STOPPED_LIMIT_S):
+        """NodeDied naming a node whose process has been stopped (state T: SIGSTOP, or t: a
+        debugger) for ``limit`` [s]; a node continued (SIGCONT) in time is forgotten."""
+        now = time.monotonic()
+        for name, proc in self.procs.items():
+            if proc.poll() is None and process_state(proc.pid) in ("T", "t"):
+                since = self.stopped_since.setdefault(name, now)
+                if now - since >= limit:
+                    raise NodeDied(f"node '{name}' (pid {proc.pid}) has been stopped for "
+                                   f"{now - since:.0f} s (SIGSTOP or a debugger: process state "
+                                   f"T); the run cannot go on without it")
+            else:
+                self.stopped_since.pop(name, None)
 
     def log_tail(self, name, lines=3):
         """Last lines of a node's log, on one line."""
@@ -153,6 +196,7 @@ class NodeGraph:
             for proc in alive:
                 try:
                     os.kill(proc.pid, sig)
+                    os.kill(proc.pid, signal.SIGCONT)   # a stopped node must see it too
                 except ProcessLookupError:
                     pass
             deadline = time.monotonic() + grace

@@ -1,6 +1,7 @@
 """The campaign process's own node: sees nodes come up, follows /clock, collects results."""
 import time
 
+from diagnostic_msgs.msg import KeyValue
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
@@ -9,7 +10,8 @@ from motoflex_ros.launcher.graph import NodeDied
 from motoflex_ros.launcher.interrupts import raise_if_interrupted
 from motoflex_ros.nodes.conversions import time_ns
 from motoflex_ros.nodes.endpoints import GraphWatch, InputGuard
-from motoflex_ros.nodes.runtime import READY_TOPIC, FastSpinner, latched_qos
+from motoflex_ros.nodes.runtime import PROGRESS_TOPIC, READY_TOPIC, FastSpinner, latched_qos
+from motoflex_ros.progress import progress_bar
 
 __all__ = ["Monitor"]
 
@@ -26,10 +28,12 @@ class Monitor(Node):
         self.names = frozenset(names)
         self.ready = set()
         self.sim_ns = 0
+        self.tests_done = {}   # component: tests finished (the load actuator's rig/progress)
         self.collected = {topic: [] for topic, _ in collect}
         self.create_subscription(String, READY_TOPIC, lambda m: self.ready.add(m.data),
                                  latched_qos())
         self.create_subscription(Clock, "clock", self._on_clock, 1)  # progress only
+        self.create_subscription(KeyValue, PROGRESS_TOPIC, self._on_progress, 10)
         for topic, msg_type in collect:
             self.create_subscription(msg_type, topic, self.collected[topic].append,
                                      latched_qos())
@@ -46,6 +50,9 @@ class Monitor(Node):
     def _on_clock(self, msg):
         self.sim_ns = max(self.sim_ns, time_ns(msg.clock))
 
+    def _on_progress(self, msg):
+        self.tests_done[msg.key] = max(self.tests_done.get(msg.key, 0), int(msg.value))
+
     def wait_ready(self, graph, pacer, timeout, finishers=()):
         """Wait until every node announced itself on /rig/ready (or the pacer already ended).
 
@@ -59,31 +66,49 @@ class Monitor(Node):
                 return
             graph.check_alive(allowed=(pacer, *done))
             if time.monotonic() > deadline:
+                from motoflex_ros.launcher.run import peer_room_problem
                 missing = ", ".join(sorted(self.names - self.ready))
-                raise NodeDied(f"nodes not up after {timeout:g} s: {missing}")
+                full = peer_room_problem(graph.domain_id)   # joined by others meanwhile?
+                raise NodeDied(f"nodes not up after {timeout:g} s: {missing}"
+                               + (f"; likely cause: {full}" if full else ""))
             self.spin(0.1)
 
-    def follow(self, graph, pacer, duration_s, progress, finishers=()):
-        """Spin until the pacing node exits; a progress bar over simulated time."""
+    def follow(self, graph, pacer, duration_s, progress, finishers=(), tests_total=None):
+        """Spin until the pacing node exits. The progress bar counts the bench tests finished
+        out of ``tests_total`` (a campaign: a test settles at a time no one knows before, so
+        simulated time has no fixed total), else simulated time out of ``duration_s`` [s]
+        (a replay: the bag's duration)."""
         from motoflex_ros.launcher.run import pacer_failed
-        bar = _progress_bar(duration_s) if progress else None
+        bar = _progress_bar(duration_s, tests_total) if progress else None
         try:
             while True:
                 self.spin(0.1)
                 if bar is not None:
-                    bar.update(round(self.sim_ns / 1e9, 3) - bar.n)
+                    self._show(bar, tests_total)
                 code = graph.exited().get(pacer)
                 if code is not None:
                     if code != 0:   # a worker that died first is the cause: name it
                         graph.check_alive(allowed=(pacer, *_finished(graph, finishers)))
                         raise pacer_failed(graph, pacer, code)
-                    if bar is not None:
-                        bar.total = bar.n  # tests settle before their planned maximum
+                    if bar is not None:   # done: a replay's last /clock may lie short of it
+                        bar.update(bar.total - bar.n)
                     return
                 graph.check_alive(allowed=(pacer, *_finished(graph, finishers)))
         finally:
             if bar is not None:
                 bar.close()
+
+    def _show(self, bar, tests_total):
+        """Bring the bar to what the graph did (tests finished, or simulated time)."""
+        if tests_total:
+            done = min(sum(self.tests_done.values()), tests_total)
+            bar.set_postfix_str(f"simulated {self.sim_ns / 1e9:.1f} s", refresh=False)
+        else:
+            done = round(self.sim_ns / 1e9, 3)
+        if done != bar.n:
+            bar.update(done - bar.n)
+        elif tests_total:
+            bar.refresh()   # the simulated time moves between tests (a log: no new line)
 
     def wait_finishers(self, graph, done, timeout):
         """Wait until every node in ``done`` exited 0 (the pacer first, then the finishers)."""
@@ -117,10 +142,11 @@ def _finished(graph, names):
     return tuple(n for n in names if exited.get(n) == 0)
 
 
-def _progress_bar(duration_s):
-    from tqdm import tqdm
-    return tqdm(total=round(duration_s, 3), unit="sim s", desc="campaign",
-                # the total is the protocol's longest plan: tests that settle sooner end the
-                # run earlier (the bar then jumps to its end), hence "at most"
-                bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f} sim s of at most "
-                           "{total:.2f} [{elapsed}<{remaining}]")
+def _progress_bar(duration_s, tests_total):
+    if tests_total:
+        return progress_bar(total=tests_total, unit="test", desc="campaign",
+                            bar_format="{desc}: {percentage:3.0f}%|{bar}| {n}/{total} tests"
+                                       "{postfix} [{elapsed}<{remaining}]")
+    return progress_bar(total=round(duration_s, 3), unit="sim s", desc="replay",
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} "
+                                   "sim s [{elapsed}<{remaining}]")

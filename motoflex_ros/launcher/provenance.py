@@ -1,12 +1,16 @@
 """What made a run: ``bags/<run>/provenance.json``, written by ``motoflex campaign``.
 
-``{"command": "motoflex campaign ...", "package_version": "0.1.0", "git_commit": "<sha>" |
-null, "git_dirty": bool | null, "git_note": "..." | null, "started_utc": "...", "seed": 0,
-"noise_override_m": null | float, "sensor_noise_m": {component: sigma [m]}, "protocol": null
-| "...", "components": [...]}``. Together with status.json (how it ended) and the bag's
+``{"command": "motoflex campaign ...", "package_version": "0.1.0", "git_commit": "<sha>" | null,
+"git_dirty": bool | null, "git_note": "..." | null, "started_utc": "...", "seed": 0,
+"noise_override_m": null | float, "sensor_noise_m": {component: sigma [m]}, "protocol": null |
+"...", "components": [...], "inputs": {absolute path: SHA-256}, "bag": {"file": name, "sha256":
+...}}``: ``bag`` is the MCAP file the run recorded, by hash (a bag put in its place is told);
+``inputs`` lists every file the run read (components, protocols, the vehicle, files they name),
+each read once by the launcher and held to that hash for the whole run
+(:mod:`motoflex_ros.input_pins`). Together with status.json (how it ended) and the bag's
 metadata.yaml (its time span and ROS distribution) it is the provenance the report shows
-(:mod:`motoflex_ros.report.provenance`). A run folder without it (an older run) has no
-record of these; the report says so rather than guessing.
+(:mod:`motoflex_ros.report.provenance`). A run folder without it (an older run) has no record of
+these; the report says so rather than guessing.
 """
 import json
 import shlex
@@ -15,7 +19,7 @@ import time
 from pathlib import Path
 
 import motoflex_ros
-from motoflex_ros.files import atomic_write_text
+from motoflex_ros.files import atomic_write_text, read_json
 
 __all__ = ["PROVENANCE_FILE", "write_provenance", "read_provenance", "git_state",
            "sensor_noise", "utc_stamp"]
@@ -56,11 +60,14 @@ def sensor_noise(components, protocol=None, noise_override=None):
 
 
 def write_provenance(folder, argv, components, seed, noise_override=None, protocol=None,
-                     started=None):
+                     started=None, inputs=None, bag_file=None):
     """Write ``folder``/provenance.json (atomically) for a campaign run; returns its path.
 
-    ``argv``: the arguments after ``motoflex``; ``started``: the run's start [s since epoch].
+    ``argv``: the arguments after ``motoflex``; ``started``: the run's start [s since epoch];
+    ``inputs``: {absolute path: SHA-256} of the run's input files; ``bag_file``: the MCAP
+    file the run recorded.
     """
+    from motoflex_ros.input_pins import sha256_file
     commit, dirty, note = git_state()
     record = {"command": shlex.join(["motoflex", *argv]),
               "package_version": motoflex_ros.__version__,
@@ -68,7 +75,10 @@ def write_provenance(folder, argv, components, seed, noise_override=None, protoc
               "started_utc": utc_stamp(started), "seed": int(seed),
               "noise_override_m": None if noise_override is None else float(noise_override),
               "sensor_noise_m": sensor_noise(components, protocol, noise_override),
-              "protocol": protocol, "components": list(components)}
+              "protocol": protocol, "components": list(components),
+              "inputs": dict(sorted((inputs or {}).items())),
+              "bag": None if bag_file is None else {"file": Path(bag_file).name,
+                                                    "sha256": sha256_file(bag_file)}}
     return atomic_write_text(Path(folder) / PROVENANCE_FILE, json.dumps(record, indent=1) + "\n")
 
 
@@ -79,7 +89,7 @@ def read_provenance(folder):
     if not path.is_file():
         return None
     try:
-        record = json.loads(path.read_text(encoding="utf-8"))
+        record = read_json(path)
     except (OSError, ValueError) as exc:
         return {"unreadable": f"{PROVENANCE_FILE}: {exc}"}
     return record if isinstance(record, dict) else {"unreadable": f"{PROVENANCE_FILE}: no dict"}

@@ -16,13 +16,14 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.launcher.dds import configure_dds
-from motoflex_ros.launcher.domain import DomainLock, requested_domain
+from motoflex_ros.input_pins import InputChanged, check_pins
+from motoflex_ros.launcher.dds import configure_dds, peers_range
+from motoflex_ros.launcher.domain import DomainLock, participants_in_domain, requested_domain
 from motoflex_ros.launcher.graph import NodeDied, NodeGraph, describe_exit
 from motoflex_ros.launcher.interrupts import deferred_interrupts, raise_if_interrupted
 
 __all__ = ["RunFailed", "RunInterrupted", "RunResult", "run_graph", "work_folder",
-           "ros_log_home"]
+           "ros_log_home", "peer_room_problem", "check_peer_room"]
 
 
 class RunFailed(MotoflexError):
@@ -77,9 +78,10 @@ def _keep_logs(exc, logs, kept):
         return
     try:
         shutil.copytree(logs, kept, dirs_exist_ok=True)
-    except OSError:
-        return   # the message still carries each failed node's last log lines
-    exc.args = tuple(a.replace(str(logs), str(kept)) if isinstance(a, str) else a
+        where = str(kept)
+    except OSError:   # a full disk: the message still carries each failed node's last lines
+        where = f"{kept} (copied only in part)"
+    exc.args = tuple(a.replace(str(logs), where) if isinstance(a, str) else a
                      for a in exc.args)
 
 
@@ -91,10 +93,14 @@ recorder, which subscribes once it has discovered each topic's publishers, last)
 
 def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=False,
               ready_timeout=READY_TIMEOUT_S, drain_timeout=30.0, finishers=(),
-              finish_timeout=300.0, namespace=None):
+              finish_timeout=300.0, namespace=None, tests_total=None, pins=None):
     """Run ``specs`` until ``pacer`` exits 0 (and then every node in ``finishers``); returns a
     :class:`RunResult`. ``collect``: (topic, msg_type) pairs whose messages the monitor keeps
     (topics relative to ``namespace``, where every node runs: None or '/' for the root).
+    ``tests_total``: the bench tests the pacer plays (the progress bar counts them), else
+    the progress bar runs over ``duration_s`` of simulated time.
+    ``pins``: {absolute path: SHA-256} of the inputs the launcher read; the nodes check what
+    they read against them, and a pinned file that changed before the run ended fails it.
     """
     work_dir = Path(work_dir or tempfile.mkdtemp(prefix="motoflex_run_"))
     start = time.monotonic()
@@ -105,41 +111,69 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
                 where = f", namespace {namespace}" if (namespace or "/").strip("/") else ""
                 print(f"motoflex: ROS_DOMAIN_ID {lock.domain_id} ({lock.origin}){where}; {dds}",
                       file=sys.stderr, flush=True)
-                graph = NodeGraph(specs, lock.domain_id, work_dir, namespace)
+                check_peer_room(lock.domain_id, len(specs) + 1)   # the nodes + the monitor
+                graph = NodeGraph(specs, lock.domain_id, work_dir, namespace, pins)
                 try:
                     graph.start()   # inside the try: a failure half-way stops what started
-                    collected = _monitor(graph, pacer, duration_s, collect, progress,
-                                         ready_timeout, (finishers, finish_timeout, drain_timeout))
+                    collected = _monitor(graph, pacer, (duration_s, tests_total), collect,
+                                         progress, ready_timeout,
+                                         (finishers, finish_timeout, drain_timeout))
                 except BaseException:
                     graph.stop()
                     raise
                 codes = graph.stop()
                 raise_if_interrupted()
                 _check_exit_codes(graph, codes)
+                check_pins(graph.pins)
         except KeyboardInterrupt as exc:
             what = str(exc) or "SIGINT"
             raise RunInterrupted(f"interrupted by {what}; every node stopped "
                                  f"(logs: {work_dir / 'log'})") from None
-        except NodeDied as exc:
+        except (NodeDied, InputChanged) as exc:
             raise RunFailed(str(exc)) from None
     return RunResult(lock.domain_id, time.monotonic() - start, codes, collected)
 
 
-def _monitor(graph, pacer, duration_s, collect, progress, ready_timeout, ending):
+def peer_room_problem(domain_id, ours=0):
+    """Why the run's ``ours`` participants would not all discover each other in the domain
+    (the loopback profile reaches the first maxInitialPeersRange participant ids only), in
+    words; None when they fit (or another profile decides discovery)."""
+    reach, profile = peers_range(os.environ)
+    if reach is None:
+        return None
+    others = participants_in_domain(domain_id)
+    if others + ours <= reach:
+        return None
+    return (f"ROS_DOMAIN_ID {domain_id} has {others} DDS participants on this host; with this "
+            f"run's {ours} that is above the {reach} the loopback profile's "
+            f"maxInitialPeersRange lets discovery reach ({profile}): the nodes would not find "
+            f"each other. Use another ROS_DOMAIN_ID (or leave it unset for a free one)")
+
+
+def check_peer_room(domain_id, ours):
+    """RunFailed at once when :func:`peer_room_problem` finds the domain too full."""
+    problem = peer_room_problem(domain_id, ours)
+    if problem:
+        raise RunFailed(problem)
+
+
+def _monitor(graph, pacer, planned, collect, progress, ready_timeout, ending):
     import rclpy
     from rclpy.signals import SignalHandlerOptions
 
     from motoflex_ros.launcher.monitor import Monitor
     from motoflex_ros.nodes.endpoints import RunEndpoints
     context = rclpy.Context()
-    rclpy.init(args=[], context=context, domain_id=graph.domain_id,
-               signal_handler_options=SignalHandlerOptions.NO)
+    # no log file of this process in ~/.ros/log (the nodes' logs are the run's, in its folder)
+    rclpy.init(args=["--ros-args", "--disable-external-lib-logs"], context=context,
+               domain_id=graph.domain_id, signal_handler_options=SignalHandlerOptions.NO)
     try:
         monitor = Monitor(context, [s.name for s in graph.specs], collect,
                           RunEndpoints(graph.endpoints_dir), graph.namespace)
         finishers, finish_timeout, drain_timeout = ending
         monitor.wait_ready(graph, pacer, ready_timeout, finishers)
-        monitor.follow(graph, pacer, duration_s, progress, finishers)
+        duration_s, tests_total = planned
+        monitor.follow(graph, pacer, duration_s, progress, finishers, tests_total)
         monitor.wait_finishers(graph, (pacer, *finishers), finish_timeout)
         monitor.drain(graph, (pacer, *finishers), drain_timeout)
         return monitor.collected
@@ -160,5 +194,7 @@ def _check_exit_codes(graph, codes):
 def pacer_failed(graph, pacer, code):
     """RunFailed for a pacing node that ended with ``code``."""
     verb = "died" if code < 0 else "failed"
+    full = peer_room_problem(graph.domain_id)   # others joined the domain during the run
     return RunFailed(f"node '{pacer}' {verb} ({describe_exit(code)}); its log: "
-                     f"{graph.log_dir / (pacer + '.log')}: {graph.log_tail(pacer)}")
+                     f"{graph.log_dir / (pacer + '.log')}: {graph.log_tail(pacer)}"
+                     + (f"; likely cause: {full}" if full else ""))

@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.files import atomic_write_text
+from motoflex_ros.files import OutputError, atomic_write_text, read_json
 from motoflex_ros.launcher.interrupts import raise_on_sigterm
 from motoflex_ros.record.mcap_bag import METADATA_FILE, check_new_bag_dir
 
@@ -43,9 +43,9 @@ def read_status(folder):
     if not path.is_file():
         return None
     try:
-        status = json.loads(path.read_text())
+        status = read_json(path)
     except (OSError, ValueError) as exc:
-        return {"status": "unreadable", "reason": str(exc)}
+        return {"status": "unreadable", "reason": f"{STATUS_FILE}: {exc}"}
     return status if isinstance(status, dict) else {"status": "unreadable", "reason": "no dict"}
 
 
@@ -86,23 +86,61 @@ def _reason(exc):
     return str(exc) if isinstance(exc, MotoflexError) else f"{type(exc).__name__}: {exc}"
 
 
+RESERVE_BYTES = 1 << 16
+"""Disk space held beside a running run's folder [bytes]: freed to write its failed status
+when the disk filled up."""
+
+
+def _reserve(folder):
+    """A hidden file of RESERVE_BYTES beside ``folder`` (its path), or None if none can be
+    made (a full or read-only disk: the run's own writes will say so)."""
+    path = folder.parent / f".{folder.name}.status-reserve"
+    try:
+        folder.parent.mkdir(parents=True, exist_ok=True)
+        stream = open(path, "xb")   # noqa: SIM115 (closed below)
+    except OSError:
+        return None
+    try:
+        with stream:
+            stream.write(bytes(RESERVE_BYTES))
+    except OSError:
+        path.unlink(missing_ok=True)
+        return None
+    return path
+
+
+def _write_failed(folder, reason, reserve):
+    """Write status "failed"; on a full disk the reserve is freed first, then tried again."""
+    try:
+        write_status(folder, FAILED, reason)
+    except OutputError:
+        if reserve is None:
+            raise
+        reserve.unlink(missing_ok=True)
+        write_status(folder, FAILED, reason)
+
+
 @contextmanager
 def run_status(folder, results=()):
     """Around everything a run writes into ``folder`` (which must not exist or be empty): at
     the end status 'complete'; on any error, SIGINT or SIGTERM status 'failed' with the reason,
     the ``results`` (file names in the folder, final and staged) removed, and the error
-    re-raised. Nothing is written if the run left no folder."""
+    re-raised. Nothing is written if the run left no folder. A full disk still gets its
+    'failed' status (space for it is reserved beside the folder while the run goes)."""
     folder = check_new_bag_dir(folder)
     previous = signal.signal(signal.SIGTERM, raise_on_sigterm)
+    reserve = _reserve(folder)
     try:
         yield folder
+        write_status(folder, COMPLETE)
     except BaseException as exc:
         if folder.is_dir():
             for name in results:
                 (folder / name).unlink(missing_ok=True)
                 staged(folder / name).unlink(missing_ok=True)
-            write_status(folder, FAILED, _reason(exc))
+            _write_failed(folder, _reason(exc), reserve)
         raise
     finally:
         signal.signal(signal.SIGTERM, previous)
-    write_status(folder, COMPLETE)
+        if reserve is not None:
+            reserve.unlink(missing_ok=True)

@@ -4,3 +4,11 @@ One module per executable (``ros2 run motoflex_ros <name>`` or the console scrip
 name); message conversions live in :mod:`.conversions`, shared plumbing in :mod:`.runtime` and
 :mod:`.params`.
 """
+
+# every executable node: module name (= executable, node name) -> its class
+NODE_CLASSES = {
+    "sim_clock": "SimClock", "recorder": "Recorder", "bag_replay": "BagReplay",
+    "load_actuator": "LoadActuatorNode", "component_simulator": "ComponentSimulatorNode",
+    "displacement_sensor": "DisplacementSensorNode", "identification": "IdentificationNode",
+    "vehicle_simulator": "VehicleSimulatorNode",
+}

@@ -13,6 +13,7 @@ import sys
 import time
 
 from motoflex_ros.nodes.conversions import clock_ns_from_cdr, seconds_to_ns
+from motoflex_ros.nodes.interfaces import PACER_TOPICS, RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.pacing import AckGate, ReadyWatch
 from motoflex_ros.nodes.params import Param, ParameterError
 from motoflex_ros.nodes.runtime import RigNode, message_class, publish_patiently, run_node
@@ -35,6 +36,12 @@ class BagReplay(RigNode):
         Param("stall_timeout", 10.0, 0.1, 3600.0,
               description="max wait for an ack, or for a node to be ready [s]"),
         Param("exclude", ("/rig/",), description="topic prefixes not republished"),
+    )
+    TOPICS = RIG_TOPICS + PACER_TOPICS + (
+        Topic("pub", "<each topic of the bag>", "the topic's type in the bag", RELIABLE,
+              "the bag's messages in recorded order, /clock with them (not those under "
+              "exclude; /tf, /tf_static only where tf2_msgs has Python messages)",
+              when="from the bag"),
     )
 
     def __init__(self):

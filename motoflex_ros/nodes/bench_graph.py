@@ -38,15 +38,31 @@ def frame_id(component):
     return clamp_frame(component)
 
 
-def campaign_setups(params):
-    """{component: CampaignSetup} from the bench parameters (the same call as offline)."""
+def campaign_setups(params, inputs=None):
+    """{component: CampaignSetup} from the bench parameters (the same calls as offline
+    ``motoflex identify``: the principal hinges' carried inertia from the vehicle file).
+
+    ``inputs``, a dict, receives {component: {absolute path: SHA-256}} of the files each
+    setup read (checked against the run's pins: :mod:`motoflex_ros.input_pins`)."""
+    from dataclasses import replace
+
     from motoflex_ros.bench.campaign import checked_noise, setup_campaign
+    from motoflex_ros.input_pins import recording_inputs
+    from motoflex_ros.study.variants import carried_inertias
     noise = None if params["noise"] == -1.0 else checked_noise(params["noise"], "ROS parameters",
                                                                "noise")
     protocol = params["protocol"] or None
-    setups = [setup_campaign(c, protocol, noise) for c in params["components"]]
-    # keyed by the component's own name (a YAML file's too: its topics are /bench/<name>/...)
-    return {s.name: s for s in setups}
+    setups = {}
+    for given in params["components"]:
+        with recording_inputs() as read:   # the component, its protocol and the vehicle file
+            loaded, carried = carried_inertias([given])
+            setup = setup_campaign(loaded[0], protocol, noise)
+        setup = replace(setup, carried=carried.get(setup.name))
+        # keyed by the component's own name (a YAML file's too: its topics are /bench/<name>/)
+        setups[setup.name] = setup
+        if inputs is not None:
+            inputs[setup.name] = dict(sorted(read.items()))
+    return setups
 
 
 class SampleJoin:

@@ -25,6 +25,15 @@ from motoflex_ros.nodes.conversions import (
     sample_from_phase,
     structure_markers,
 )
+from motoflex_ros.nodes.interfaces import (
+    LATCHED_LAST,
+    LOAD_IN,
+    PHASE_IN,
+    RELIABLE,
+    RIG_TOPICS,
+    TF_STATIC,
+    Topic,
+)
 from motoflex_ros.nodes.message_checks import BenchInputs
 from motoflex_ros.nodes.runtime import RigNode, latched_qos, run_node
 from motoflex_ros.nodes.tf import TfPublisher
@@ -37,6 +46,14 @@ class ComponentSimulatorNode(RigNode):
 
     NAME = "component_simulator"
     PARAMS = BENCH_PARAMS
+    TOPICS = RIG_TOPICS + (
+        PHASE_IN, LOAD_IN,
+        Topic("pub", "bench/{c}/markers/true", "geometry_msgs/msg/PoseArray", RELIABLE,
+              "true marker positions [m], frame <c>_clamp, stamped with the load's time"),
+        Topic("pub", "bench/{c}/structure", "visualization_msgs/msg/MarkerArray", LATCHED_LAST,
+              "the beam model (members and nodes), frame <c>_clamp"),
+        TF_STATIC,
+    )
 
     def __init__(self):
         from motoflex_ros.bench.response import ComponentSimulator
@@ -71,13 +88,13 @@ class ComponentSimulatorNode(RigNode):
         setup = self.setups[component]
         q0 = np.asarray(setup.reduced.q0, float)
         offsets = np.asarray(setup.protocol.sensor.markers, float)
-        checked = BenchInputs(component, setup.plan.load_limit_n, self.get_namespace())
+        checked = BenchInputs.of_plan(component, setup.plan, self.get_namespace())
 
         def handle(phase, inputs):
             if "load" not in inputs:
                 return
-            ns, force = checked.load(inputs["load"])
-            sample, _ = sample_from_phase(phase, force)
+            ns, load = checked.wrench(inputs["load"])
+            sample, _ = sample_from_phase(phase, load)
             motion = self.sims[component].step(sample)
             markers = marker_positions(q0 + motion[:3], rotation_from_vector(motion[3:]), q0,
                                        offsets)

@@ -19,13 +19,14 @@ from rclpy.serialization import deserialize_message
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
 
-from motoflex_ros.bench.actuator import LoadSample
+from motoflex_ros.bench.actuator import LATERAL_WRENCH, LoadSample, wrench_amplitude
 
 __all__ = ["time_msg", "time_ns", "clock_msg", "seconds_to_ns", "clock_ns_from_cdr",
            "wrench_msg", "phase_msg", "sample_from_phase", "points_msg", "points_from_msg",
            "pose_msg", "identification_statuses", "results_from_statuses", "quaternion_xyzw",
            "mode_statuses", "joint_state_msg", "poses_msg", "axis_marker", "points_cdr",
-           "points_from_cdr", "wrench_cdr", "wrench_from_cdr", "phase_cdr", "phase_text",
+           "points_from_cdr", "wrench_cdr", "wrench_from_cdr", "wrench_vector_from_cdr",
+           "phase_cdr", "phase_text",
            "pose_cdr", "is_end_marker", "transform_msg", "structure_markers", "qos_dict",
            "series_msg", "IDENTIFIED_MODELS", "IDENTIFIED_UNITS", "identified_series",
            "mode_series"]
@@ -64,12 +65,22 @@ def clock_ns_from_cdr(data):
 
 # --- bench: loads, phases, markers, poses -------------------------------------------------
 
-def wrench_msg(ns, frame_id, force_y):
-    """geometry_msgs/WrenchStamped: lateral force F_y [N] at the loaded end."""
+def _wrench_values(load):
+    """(F_x, F_y, F_z, M_x, M_y, M_z) of a lateral force F_y [N] (a number) or a wrench (6,)."""
+    if np.ndim(load) == 0:
+        return (0.0, float(load), 0.0, 0.0, 0.0, 0.0)
+    return tuple(float(v) for v in load)
+
+
+def wrench_msg(ns, frame_id, load):
+    """geometry_msgs/WrenchStamped at the loaded end: a lateral force F_y [N] (a number) or a
+    wrench (F_x, F_y, F_z, M_x, M_y, M_z) [N, N m] (a moment test's torque)."""
     msg = WrenchStamped()
     msg.header.stamp = time_msg(ns)
     msg.header.frame_id = frame_id
-    msg.wrench.force.y = float(force_y)
+    values = _wrench_values(load)
+    msg.wrench.force.x, msg.wrench.force.y, msg.wrench.force.z = values[:3]
+    msg.wrench.torque.x, msg.wrench.torque.y, msg.wrench.torque.z = values[3:]
     return msg
 
 
@@ -81,14 +92,18 @@ def phase_msg(sample=None, end_ns=None):
     return String(data=json.dumps(data))
 
 
-def sample_from_phase(msg, force_y):
-    """(LoadSample, None) from a phase message (std_msgs/String, or its CDR bytes) and the F_y
-    [N] of its load; (None, end_ns) for the end marker.
+def sample_from_phase(msg, load):
+    """(LoadSample, None) from a phase message (std_msgs/String, or its CDR bytes) and its
+    load: F_y [N] (a number) or the wrench (6,) [N, N m], whose amplitude along the test's unit
+    wrench (the label's, default F_y) is the sample's force; (None, end_ns) for the end marker.
     """
     data = json.loads(phase_text(msg))
     if "end_ns" in data:
         return None, data["end_ns"]
-    data["force"] = float(force_y)
+    if np.ndim(load) == 0:
+        data["force"] = float(load)
+    else:
+        data["force"] = wrench_amplitude(data.get("wrench", LATERAL_WRENCH), load)
     return LoadSample.from_dict(data), None
 
 
@@ -161,6 +176,8 @@ def _plain(value):
         return None
     if isinstance(value, (list, tuple, np.ndarray)):
         return [_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
     return value
 
 
@@ -168,7 +185,8 @@ def identification_statuses(component, result_dict):
     """diagnostic_msgs/DiagnosticStatus list, one per test/model of a component's result dict
     (``ComponentIdentification.to_dict``): name '<component>/<test>', values as KeyValue with
     dotted keys and ``repr`` values (exact floats; None for NaN, an undefined value). The
-    split status is WARN with the reason when eq. (12) gave no identifiable k_t, k_b.
+    split status is WARN with the reason when eq. (12) gave no identifiable k_t, k_b, the
+    principal status when the principal hinges are not identified.
     """
     statuses, top = [], {}
     for test, values in result_dict.items():
@@ -182,6 +200,10 @@ def identification_statuses(component, result_dict):
     if top.get("split_identifiable") is False:  # eq. (12) gave no usable k_t, k_b
         split.level, split.message = DiagnosticStatus.WARN, str(top.get("split_problem"))
     statuses.insert(0, split)
+    principal = result_dict.get("principal")
+    if isinstance(principal, dict) and not principal.get("identified"):  # with the reason
+        status = next(s for s in statuses if s.name == f"{component}/principal")
+        status.level, status.message = DiagnosticStatus.WARN, str(principal.get("problem"))
     return statuses
 
 
@@ -403,19 +425,39 @@ def _doubles_cdr(ns, frame_id, values):
     return bytes(out)
 
 
-def wrench_cdr(ns, frame_id, force_y):
-    """Serialized :func:`wrench_msg` (geometry_msgs/WrenchStamped, F_y [N])."""
-    return _doubles_cdr(ns, frame_id, (0.0, float(force_y), 0.0, 0.0, 0.0, 0.0))
+def wrench_cdr(ns, frame_id, load):
+    """Serialized :func:`wrench_msg` (geometry_msgs/WrenchStamped: F_y [N] or a wrench (6,))."""
+    return _doubles_cdr(ns, frame_id, _wrench_values(load))
+
+
+def wrench_vector_from_cdr(data):
+    """(stamp [ns], (F_x, F_y, F_z, M_x, M_y, M_z) [N, N m]) of a serialized
+    geometry_msgs/WrenchStamped."""
+    if data[1] != 1:  # big-endian CDR: take the slow, general path
+        msg = deserialize_message(data, WrenchStamped)
+        f, m = msg.wrench.force, msg.wrench.torque
+        return time_ns(msg.header.stamp), (f.x, f.y, f.z, m.x, m.y, m.z)
+    ns, offset = _header_from_cdr(data)
+    offset += -(offset - 4) % 8
+    return ns, struct.unpack_from("<6d", data, offset)
 
 
 def wrench_from_cdr(data):
     """(stamp [ns], F_y [N]) of a serialized geometry_msgs/WrenchStamped."""
+    ns, values = wrench_vector_from_cdr(data)
+    return ns, values[1]
+
+
+def wrench6_from_cdr(data):
+    """(stamp [ns], (F_x, F_y, F_z [N], M_x, M_y, M_z [N m])) of a serialized
+    geometry_msgs/WrenchStamped."""
     if data[1] != 1:  # big-endian CDR: take the slow, general path
         msg = deserialize_message(data, WrenchStamped)
-        return time_ns(msg.header.stamp), msg.wrench.force.y
+        f, m = msg.wrench.force, msg.wrench.torque
+        return time_ns(msg.header.stamp), (f.x, f.y, f.z, m.x, m.y, m.z)
     ns, offset = _header_from_cdr(data)
     offset += -(offset - 4) % 8
-    return ns, struct.unpack_from("<d", data, offset + 8)[0]
+    return ns, struct.unpack_from("<6d", data, offset)
 
 
 def pose_cdr(ns, frame_id, position, rotation):

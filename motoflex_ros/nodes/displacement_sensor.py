@@ -22,6 +22,7 @@ from motoflex_ros.nodes.conversions import (
     pose_cdr,
     sample_from_phase,
 )
+from motoflex_ros.nodes.interfaces import PHASE_IN, RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.message_checks import BenchInputs
 from motoflex_ros.nodes.runtime import RigNode, run_node
 
@@ -33,6 +34,17 @@ class DisplacementSensorNode(RigNode):
 
     NAME = "displacement_sensor"
     PARAMS = BENCH_PARAMS
+    TOPICS = RIG_TOPICS + (
+        PHASE_IN,
+        Topic("sub", "bench/{c}/markers/true", "geometry_msgs/msg/PoseArray", RELIABLE,
+              "true marker positions [m]"),
+        Topic("pub", "bench/{c}/markers/measured", "geometry_msgs/msg/PoseArray", RELIABLE,
+              "measured marker positions [m] (noise, resolution, rate, latency), frame "
+              "<c>_clamp"),
+        Topic("pub", "bench/{c}/pose", "geometry_msgs/msg/PoseStamped", RELIABLE,
+              "pose of the loaded end from a rigid fit of the measured markers, frame "
+              "<c>_clamp"),
+    )
 
     def __init__(self):
         from motoflex_ros.bench.sensor import MarkerSensor
@@ -54,8 +66,8 @@ class DisplacementSensorNode(RigNode):
     def _handler(self, component):
         sensor = self.sensors[component]
         frame = frame_id(component)
-        checked = BenchInputs(component, self.setups[component].plan.load_limit_n,
-                              self.get_namespace())
+        checked = BenchInputs.of_plan(component, self.setups[component].plan,
+                                      self.get_namespace())
 
         def handle(phase, inputs):
             if "true" not in inputs:

@@ -9,7 +9,8 @@ publishes them on /identification/results (diagnostic_msgs/DiagnosticArray, one 
 test, KeyValue values), the same k [N m/rad], l [m] and beta [rad] of the static, torsion and
 bending models as numbers a plot panel draws on /identification/<c>/{k, l, beta}
 (std_msgs/Float64MultiArray, latched) and, once every component is done, writes
-``result_file`` atomically.
+``result_file`` atomically; each component's entry says which files it came from ("inputs":
+{absolute path: SHA-256} of what its setup read, held to the run's pins).
 Loads and measured markers that are not finite, loads beyond the protocol's range and stamps
 that go back stop the node at that message (:mod:`.message_checks`), before the core sees it.
 
@@ -26,6 +27,7 @@ bench/<bench>/{load, markers/measured, identify} (relative: in the node's namesp
 be set or remapped (``-r``).
 """
 import sys
+from dataclasses import replace
 
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, KeyValue
@@ -42,6 +44,16 @@ from motoflex_ros.nodes.conversions import (
     is_end_marker,
     sample_from_phase,
     time_msg,
+)
+from motoflex_ros.nodes.interfaces import (
+    ACK_OUT,
+    LATCHED,
+    LATCHED_LAST,
+    LOAD_IN,
+    PHASE_IN,
+    RELIABLE,
+    RIG_TOPICS,
+    Topic,
 )
 from motoflex_ros.nodes.load_actuator import may_end_test
 from motoflex_ros.nodes.measured_inputs import MEASURED_PARAMS, MeasuredInputs
@@ -66,6 +78,29 @@ class IdentificationNode(RigNode):
               description="virtual: the emulated bench in lock-step; measured: a real rig's "
                           "topics, no FE model"),
     ) + MEASURED_PARAMS
+    TOPICS = RIG_TOPICS + (
+        Topic("pub", RESULTS_TOPIC, "diagnostic_msgs/msg/DiagnosticArray", LATCHED,
+              "identified l, beta, b, k, c, J, k_t, k_b (one status per component, KeyValue "
+              "pairs), as each component ends"),
+        Topic("pub", "identification/{c}/l", "std_msgs/msg/Float64MultiArray", LATCHED_LAST,
+              "the identified joint distance l [m] of each estimate"),
+        Topic("pub", "identification/{c}/beta", "std_msgs/msg/Float64MultiArray",
+              LATCHED_LAST, "the identified axis angle beta [rad] of each estimate"),
+        Topic("pub", "identification/{c}/k", "std_msgs/msg/Float64MultiArray", LATCHED_LAST,
+              "the identified stiffness k [N m/rad] of each estimate"),
+        replace(PHASE_IN, when="mode virtual"), replace(LOAD_IN, when="mode virtual"),
+        Topic("sub", "bench/{c}/markers/measured", "geometry_msgs/msg/PoseArray", RELIABLE,
+              "measured marker positions [m]", when="mode virtual"),
+        replace(ACK_OUT, when="mode virtual"),
+        Topic("sub", "bench/<bench>/load (load_topic)", "geometry_msgs/msg/WrenchStamped",
+              "best effort or reliable (qos), keep all", "the load cell", when="mode measured"),
+        Topic("sub", "bench/<bench>/markers/measured (markers_topic)",
+              "geometry_msgs/msg/PoseArray (or per marker .../m1, /m2, ...: PointStamped or "
+              "PoseStamped, marker_msg)", "best effort or reliable (qos), keep all",
+              "the markers", when="mode measured"),
+        Topic("sub", "bench/<bench>/identify (identify_topic)", "std_msgs/msg/Empty",
+              "reliable, last 10", "identify what arrived so far", when="mode measured"),
+    )
 
     def __init__(self):
         self.live = None
@@ -124,14 +159,15 @@ class IdentificationNode(RigNode):
     def _init_virtual(self):
         from motoflex_ros.bench.sensor import MarkerSensor
         from motoflex_ros.identify.identifier import Identifier
-        self.setups = campaign_setups(self.params)
+        self.inputs = {}
+        self.setups = campaign_setups(self.params, self.inputs)
         self.ENDS_ITSELF = self.params["exit_when_done"]   # a job to finish: replay --identify
         self.identifiers = {c: Identifier(s.reduced.q0, s.protocol.harmonic)
                             for c, s in self.setups.items()}
         self.fitters = {c: MarkerSensor(s.protocol.sensor, s.reduced.q0)
                         for c, s in self.setups.items()}
         self.count = dict.fromkeys(self.setups, 0)
-        self.checked = {c: BenchInputs(c, s.plan.load_limit_n, self.get_namespace())
+        self.checked = {c: BenchInputs.of_plan(c, s.plan, self.get_namespace())
                         for c, s in self.setups.items()}
         self.results = {}
         self.unacked = {}
@@ -154,8 +190,8 @@ class IdentificationNode(RigNode):
         checked = self.checked[component]
 
         def handle(phase, inputs):
-            ns, force = checked.load(inputs["load"]) if "load" in inputs else (None, 0.0)
-            sample, end_ns = sample_from_phase(phase, force)
+            ns, load = checked.wrench(inputs["load"]) if "load" in inputs else (None, 0.0)
+            sample, end_ns = sample_from_phase(phase, load)
             if sample is not None:
                 identifier.add_load(sample)
             settled = self._measurements(component, inputs["measured"])
@@ -199,7 +235,7 @@ class IdentificationNode(RigNode):
         from motoflex_ros.identify.results import identify_component
         setup = self.setups[component]
         result = identify_component(component, self.identifiers[component].readings(),
-                                    setup.modes, setup.reduced.q0)
+                                    setup.modes, setup.reduced.q0, setup.carried)
         self.results[component] = result
         msg = DiagnosticArray(status=identification_statuses(component, result.to_dict()))
         msg.header.stamp = time_msg(end_ns)
@@ -212,8 +248,10 @@ class IdentificationNode(RigNode):
                                       f"{result.split.info['split_problem']}")
         if len(self.results) == len(self.setups):
             if self.params["result_file"]:
-                write_results(self.params["result_file"],   # as ``motoflex identify --out``
-                              {c: self.results[c].to_dict() for c in self.setups})
+                # as ``motoflex identify --out``, with the hashes of the files each came from
+                write_results(self.params["result_file"],
+                              {c: {**self.results[c].to_dict(), "inputs": self.inputs[c]}
+                               for c in self.setups})
             self.finished = self.params["exit_when_done"]
 
 

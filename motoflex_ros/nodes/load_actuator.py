@@ -23,9 +23,10 @@ from std_msgs.msg import String
 
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, campaign_setups, frame_id, topic
 from motoflex_ros.nodes.conversions import clock_msg, phase_cdr, seconds_to_ns, wrench_cdr
+from motoflex_ros.nodes.interfaces import PACER_TOPICS, RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.pacing import ReadyWatch, StallError
 from motoflex_ros.nodes.params import Param
-from motoflex_ros.nodes.runtime import ACK_TOPIC, RigNode, run_node
+from motoflex_ros.nodes.runtime import ACK_TOPIC, PROGRESS_TOPIC, RigNode, run_node
 
 __all__ = ["LoadActuatorNode", "main", "may_end_test"]
 
@@ -48,6 +49,18 @@ class LoadActuatorNode(RigNode):
         Param("window", 256, 1, 100_000, description="max unacknowledged samples [-]"),
         Param("clock_period", 0.01, 0.0, 1.0, description="/clock every so much sim time [s]"),
     )
+    TOPICS = RIG_TOPICS + PACER_TOPICS + (
+        Topic("pub", "clock", "rosgraph_msgs/msg/Clock", RELIABLE,
+              "simulated time: the earliest sample not yet acknowledged, every clock_period"),
+        Topic("pub", "bench/{c}/load", "geometry_msgs/msg/WrenchStamped", RELIABLE,
+              "commanded load at the loaded end (force.y = F_y [N]), frame <c>_clamp, "
+              "stamped with the sample's simulated time"),
+        Topic("pub", "bench/{c}/phase", "std_msgs/msg/String", RELIABLE,
+              "the sample's test, kind, phase and timing as JSON; {\"end_ns\": ...} ends the "
+              "component's campaign"),
+        Topic("pub", "rig/progress", "diagnostic_msgs/msg/KeyValue", RELIABLE,
+              "bench tests finished (key: component, value: count), for progress bars"),
+    )
 
     def __init__(self):
         from motoflex_ros.bench.actuator import LoadActuator
@@ -62,6 +75,9 @@ class LoadActuatorNode(RigNode):
                                 [self.clock_pub, *self.load_pubs.values(),
                                  *self.phase_pubs.values()], p["stall_timeout"])
         self.subscribe(KeyValue, ACK_TOPIC, self._on_ack)
+        # tests begun per component: the campaign's progress bar counts finished tests
+        self.progress_pub = self.advertise(KeyValue, PROGRESS_TOPIC)
+        self.tests_begun = dict.fromkeys(self.setups, 0)
         self.pending = {c: deque() for c in self.setups}  # ns awaiting their ack
         self.blocked = dict.fromkeys(self.setups, False)  # waiting for a steady sample's ack
         self.last_ns = dict.fromkeys(self.setups, -1)
@@ -128,16 +144,28 @@ class LoadActuatorNode(RigNode):
             self.pending[component].append(ns)
             self.last_ns[component] = ns
             self.ended.add(component)
-            return lambda: self.phase_pubs[component].publish(phase_cdr(end_ns=ns))
+
+            def publish_end():
+                self.phase_pubs[component].publish(phase_cdr(end_ns=ns))
+                self._publish_progress(component, self.tests_begun[component])
+            return publish_end
         ns = seconds_to_ns(sample.t)
         self.pending[component].append(ns)
         self.last_ns[component] = ns
         self.blocked[component] = may_end_test(sample)
+        self.tests_begun[component] += sample.test_start
+        finished = self.tests_begun[component] - 1 if sample.test_start else None
 
         def publish():
             self.phase_pubs[component].publish(phase_cdr(sample))  # CDR bytes, no message objects
-            self.load_pubs[component].publish(wrench_cdr(ns, frame_id(component), sample.force))
+            self.load_pubs[component].publish(wrench_cdr(ns, frame_id(component),
+                                                         sample.wrench_vector))
+            if finished is not None:
+                self._publish_progress(component, finished)
         return publish
+
+    def _publish_progress(self, component, finished):
+        self.progress_pub.publish(KeyValue(key=component, value=str(finished)))
 
 
 def main(args=None):

@@ -9,19 +9,38 @@ by approximate-time matching after the bench file's latency). No acknowledgement
 not wait for the identification. Identification is due when a message arrives on the
 identify topic (std_msgs/Empty) or, with ``idle_timeout_s`` > 0, when no input has arrived for
 that long (wall clock) after some did.
+
+Memory is bounded before any work (issue 23, point 3): at most ``max_frames`` load samples and
+marker frames are kept (:class:`motoflex_ros.nodes.kept_frames.KeptRows`, numpy arrays of
+fixed row size: about (56 + 32 N) bytes a frame of N markers, 160 MB at the default 600,000
+frames of 4 markers, 10 minutes at 1 kHz). Past the bound the OLDEST messages are dropped and
+counted (``dropped_oldest_load``, ``dropped_oldest_markers`` in the result's message counts, a
+warning in the log when it starts): the identification uses the most recent stretch. A
+message larger than the bound allows (a PoseArray of more than MAX_BURST_FRAMES frames of
+markers, any other message above MAX_MESSAGE_BYTES) is dropped by its serialized size,
+before it is deserialized, and counted (``oversized``). A best-effort subscription keeps at
+most QUEUE_DEPTH messages waiting (a reliable one leaves the flow control to the publisher).
 """
 import time
 
 import numpy as np
 from geometry_msgs.msg import PointStamped, PoseArray, PoseStamped, WrenchStamped
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
 from std_msgs.msg import Empty
 
+from motoflex_ros.nodes.conversions import points_from_cdr, wrench6_from_cdr
+from motoflex_ros.nodes.kept_frames import KeptRows
 from motoflex_ros.nodes.params import Param, ParameterError
 
 __all__ = ["MEASURED_PARAMS", "MeasuredInputs", "MARKER_MSGS"]
 
 MARKER_MSGS = {"PoseArray": PoseArray, "PointStamped": PointStamped, "PoseStamped": PoseStamped}
+MAX_BURST_FRAMES = 64       # marker frames one PoseArray may carry
+FROM_DATA_MARKERS = 16      # markers per frame the bound assumes with markers: from_data
+MAX_MESSAGE_BYTES = 4096    # a load, point or pose message (header and frame id included)
+POSE_BYTES = 56             # 7 float64 of a serialized geometry_msgs/Pose
+QUEUE_DEPTH = 10_000        # best effort: messages waiting for the node at most
 
 MEASURED_PARAMS = (
     Param("bench_file", "", description="mode measured: the bench file (YAML: bench, "
@@ -44,6 +63,9 @@ MEASURED_PARAMS = (
     Param("qos", "best_effort", choices=("best_effort", "reliable"),
           description="mode measured: the subscriptions' reliability (best_effort matches "
                       "every publisher)"),
+    Param("max_frames", 600_000, 10, 100_000_000,
+          description="mode measured: most load samples and marker frames kept; beyond, the "
+                      "oldest messages are dropped and counted [-]"),
 )
 
 
@@ -65,28 +87,36 @@ class MeasuredInputs:
         base = f"bench/{self.bench.name}"   # relative: in the node's namespace, as the rig's
         reliability = (ReliabilityPolicy.RELIABLE if params["qos"] == "reliable"
                        else ReliabilityPolicy.BEST_EFFORT)
-        qos = QoSProfile(depth=1, history=HistoryPolicy.KEEP_ALL, reliability=reliability)
-        self.loads, self.frames, self.subscriptions = [], [], []
+        qos = (QoSProfile(depth=1, history=HistoryPolicy.KEEP_ALL, reliability=reliability)
+               if params["qos"] == "reliable" else
+               QoSProfile(depth=QUEUE_DEPTH, history=HistoryPolicy.KEEP_LAST,
+                          reliability=reliability))
+        self.subscriptions = []
         self.per_marker = params["marker_msg"] != "PoseArray"
         self.received = {}
+        self.max_frames = params["max_frames"]
+        self.warned = set()
+        self.loads = KeptRows(self.max_frames, 6)
         load_topic = params["load_topic"] or f"{base}/load"
         markers_topic = params["markers_topic"] or f"{base}/markers/measured"
-        self.subscriptions.append(node.create_subscription(WrenchStamped, load_topic,
-                                                           self._load, qos))
+        self._subscribe(WrenchStamped, load_topic, self._load, qos, MAX_MESSAGE_BYTES,
+                        wrench6_from_cdr)
         if self.per_marker:
             n = params["n_markers"] or self.bench.n_markers
             if not n or n < 3:
                 raise ParameterError(f"node '{node.get_name()}': parameter 'n_markers' must "
                                      f"be >= 3 for per-marker topics (the bench file has "
                                      f"markers: from_data)")
-            self.frames = [[] for _ in range(n)]
+            self.frames = [KeptRows(self.max_frames, 3) for _ in range(n)]
             for i in range(n):
-                self.subscriptions.append(node.create_subscription(
-                    MARKER_MSGS[params["marker_msg"]], f"{markers_topic}/m{i + 1}",
-                    self._marker(i), qos))
+                self._subscribe(MARKER_MSGS[params["marker_msg"]], f"{markers_topic}/m{i + 1}",
+                                self._marker(i), qos, MAX_MESSAGE_BYTES)
         else:
-            self.subscriptions.append(node.create_subscription(PoseArray, markers_topic,
-                                                               self._pose_array, qos))
+            n = params["n_markers"] or self.bench.n_markers or FROM_DATA_MARKERS
+            self.frames = KeptRows(self.max_frames * n, 3)
+            self._subscribe(PoseArray, markers_topic, self._pose_array, qos,
+                            MAX_MESSAGE_BYTES + MAX_BURST_FRAMES * n * POSE_BYTES,
+                            points_from_cdr)
         node.create_subscription(Empty, params["identify_topic"] or f"{base}/identify",
                                  self._asked, 10)
         self.idle_s = params["idle_timeout_s"]
@@ -101,25 +131,51 @@ class MeasuredInputs:
         a rig asks when it is done)."""
         return all(sub.get_publisher_count() > 0 for sub in self.subscriptions)
 
+    def _subscribe(self, msg_type, topic, callback, qos, max_bytes, parse=None):
+        """A raw subscription: a message above ``max_bytes`` is dropped and counted before it
+        is deserialized; the others go to ``callback`` as ``parse(bytes)`` (default: the
+        message)."""
+        def take(data):
+            if len(data) > max_bytes:
+                self._warn("oversized", f"{topic}: a message of {len(data)} bytes is above the "
+                                        f"{max_bytes} this node keeps of one; dropped, counted "
+                                        f"as 'oversized'")
+                self._count("oversized")
+                return
+            callback(parse(data) if parse else deserialize_message(data, msg_type))
+        self.subscriptions.append(self.node.create_subscription(msg_type, topic, take, qos,
+                                                                raw=True))
+
+    def _warn(self, key, text):
+        if key not in self.warned:
+            self.warned.add(key)
+            self.node.get_logger().warning(text)
+
     def _count(self, what):
         self.received[what] = self.received.get(what, 0) + 1
         self.last_input = time.monotonic()
 
-    def _load(self, msg):
-        w = msg.wrench
-        self.loads.append((_stamp_ns(msg), w.force.x, w.force.y, w.force.z, w.torque.x,
-                           w.torque.y, w.torque.z))
+    def _keep(self, store, what, stamp, rows):
+        before = store.dropped_messages
+        store.push(stamp, rows)
+        if store.dropped_messages > before:
+            self._warn("bound", f"{self.max_frames} frames kept (parameter max_frames): the "
+                                f"oldest messages are dropped from now on, and counted")
+            key = f"dropped_oldest_{what}"
+            self.received[key] = self.received.get(key, 0) + store.dropped_messages - before
+
+    def _load(self, stamped):
+        self._keep(self.loads, "load", *stamped)
         self._count("load")
 
-    def _pose_array(self, msg):
-        points = [(p.position.x, p.position.y, p.position.z) for p in msg.poses]
-        self.frames.append((_stamp_ns(msg), points))
+    def _pose_array(self, stamped):
+        self._keep(self.frames, "markers", *stamped)
         self._count("markers")
 
     def _marker(self, i):
         def callback(msg):
             p = msg.point if hasattr(msg, "point") else msg.pose.position
-            self.frames[i].append((_stamp_ns(msg), (p.x, p.y, p.z)))
+            self._keep(self.frames[i], "markers", _stamp_ns(msg), (p.x, p.y, p.z))
             self._count(f"m{i + 1}")
         return callback
 
@@ -130,7 +186,7 @@ class MeasuredInputs:
         """Whether to identify now (asked, or idle long enough after some input); resets."""
         idle = (self.idle_s > 0 and self.last_input is not None
                 and time.monotonic() - self.last_input >= self.idle_s)
-        if (self.asked or idle) and self.loads:
+        if (self.asked or idle) and self.loads.size:
             self.asked, self.last_input = False, None
             return True
         return False
@@ -138,11 +194,12 @@ class MeasuredInputs:
     def measurements(self):
         """The core's Measurements of everything received (sorted by stamp per topic)."""
         from motoflex_ros.identify.measurements import live_measurements
-        loads = sorted(self.loads)
+        stamps, wrench, _ = self.loads.rows()
+        order = np.argsort(stamps, kind="stable")
         if self.per_marker:
-            markers = [sorted(stream) for stream in self.frames]
+            markers = [sorted((s, tuple(v)) for s, v in zip(*stream.rows()[:2]))
+                       for stream in self.frames]
         else:
-            markers = sorted(self.frames, key=lambda f: f[0])
-        return live_measurements(np.array([row[0] for row in loads], np.int64),
-                                 np.array([row[1:] for row in loads], float), markers,
-                                 self.per_marker, self.bench, "live topics")
+            markers = sorted(self.frames.messages(), key=lambda f: f[0])
+        return live_measurements(stamps[order], wrench[order], markers, self.per_marker,
+                                 self.bench, "live topics")

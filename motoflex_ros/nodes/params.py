@@ -11,11 +11,12 @@ import math
 import sys
 from dataclasses import dataclass
 
+from motoflex_ros.config import shown
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.ros_args import wildcard_only_names
 
 __all__ = ["Param", "ParameterError", "declare_parameters", "BUILTIN_PARAMETERS",
-           "parameters_help"]
+           "parameters_help", "parameters_yaml"]
 
 # parameters every rclpy node may receive without declaring them here
 BUILTIN_PARAMETERS = frozenset({"use_sim_time", "start_type_description_service"})
@@ -66,7 +67,7 @@ class Param:
             problem = "is not allowed"
         else:
             return converted
-        raise ParameterError(f"node '{node_name}': parameter '{self.name}' = {value!r} "
+        raise ParameterError(f"node '{node_name}': parameter '{self.name}' = {shown(value)} "
                              f"{problem} (expected {self.allowed()})")
 
 
@@ -126,3 +127,27 @@ def parameters_help(params):
 
 def _default_text(param):
     return repr(list(param.default)) if param.kind == "str[]" else repr(param.default)
+
+
+def _yaml_value(value):
+    """A default as YAML flow text ('' for an empty string, [a, b] for a list)."""
+    import yaml
+    value = list(value) if isinstance(value, tuple) else value
+    return yaml.safe_dump(value, default_flow_style=True).removesuffix("\n...\n").strip()
+
+
+def parameters_yaml(node_name, params):
+    """The text of config/nodes/<node>.yaml: every parameter of ``params`` at its default,
+    with its meaning and allowed values (the same words as ``--help``) as a comment. An empty
+    list cannot be given in a params file (rcl cannot tell its type): it is commented out."""
+    lines = [f"# Default parameters of the {node_name} node:",
+             f"#   ros2 run motoflex_ros {node_name} --ros-args --params-file <this file>",
+             "# Each value: what it is [unit] (allowed values).",
+             f"{node_name}:", "  ros__parameters:"]
+    for p in params:
+        meaning = f"{p.description} ({p.allowed()})" if p.description else f"({p.allowed()})"
+        line = f"{p.name}: {_yaml_value(p.default)}  # {meaning}"
+        if p.kind == "str[]" and not p.default:
+            line = f"# {line}; empty lists cannot be written here"
+        lines.append("    " + line)
+    return "\n".join(lines) + "\n"

@@ -22,7 +22,9 @@ the bag as /tf and /tf_static (tf2_msgs/msg/TFMessage: :mod:`motoflex_ros.record
 import sys
 import time
 
+from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.conversions import clock_ns_from_cdr, qos_dict
+from motoflex_ros.nodes.interfaces import RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.params import Param, ParameterError
 from motoflex_ros.nodes.runtime import RigNode, message_class, reliable_qos, run_node
 from motoflex_ros.record.mcap_bag import BagWriter
@@ -49,6 +51,14 @@ class Recorder(RigNode):
         Param("discovery_period", 0.2, 0.01, 60.0, description="topic discovery period [s]"),
         Param("batch_period", 0.005, 0.0, 1.0,
               description="pause between two waits when not acknowledging [s]"),
+    )
+    TOPICS = RIG_TOPICS + (
+        Topic("sub", "<each topic of topics>", "the topic's type", "the publishers' offered "
+              "QoS (reliable, keep all where they are reliable)", "recorded into the bag; "
+              "/rig/tf and /rig/tf_static are written as /tf and /tf_static "
+              "(tf2_msgs/msg/TFMessage)", when="as the topics appear"),
+        Topic("pub", "rig/ack", "diagnostic_msgs/msg/KeyValue", RELIABLE,
+              "recorded /clock times (value [ns]), pacing a replay", when="ack true"),
     )
 
     def __init__(self):
@@ -160,12 +170,24 @@ class Recorder(RigNode):
             time.sleep(self.params["batch_period"])
 
     def close(self, reason):
-        """Finish the MCAP file and write metadata.yaml."""
-        for batcher in self.batchers:
-            batcher.flush()
-        self.writer.close()
-        self.get_logger().info(f"bag {self.writer.path} closed ({reason}): "
-                               f"{self.writer.message_count} messages")
+        """Finish the MCAP file and write metadata.yaml; a write that fails (a full disk) is
+        one error line naming the file, exit code 2 (the file is closed all the same)."""
+        problem = None
+        try:
+            for batcher in self.batchers:
+                batcher.flush()
+        except MotoflexError as exc:
+            problem = exc
+        try:
+            self.writer.close()
+        except MotoflexError as exc:
+            problem = problem or exc
+        if problem is None:
+            self.get_logger().info(f"bag {self.writer.path} closed ({reason}): "
+                                   f"{self.writer.message_count} messages")
+        else:
+            self.get_logger().error(f"bag {self.writer.path} not finished: {problem}")
+            self.exit_code = 2
         super().close(reason)
 
 

@@ -43,19 +43,21 @@ from std_msgs.msg import String
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.launcher.dds import configure_dds
 from motoflex_ros.nodes.endpoints import InputGuard, RunEndpoints
+from motoflex_ros.nodes.interfaces import topics_help
 from motoflex_ros.nodes.params import declare_parameters, parameters_help
 from motoflex_ros.nodes.rcl_take import Taker
 
 __all__ = ["RigNode", "FastSpinner", "run_node", "print_help", "publish_patiently",
            "message_class",
            "reliable_qos",
-           "latched_qos", "READY_TOPIC", "ACK_TOPIC", "GAP_EXIT_CODE"]
+           "latched_qos", "READY_TOPIC", "ACK_TOPIC", "PROGRESS_TOPIC", "GAP_EXIT_CODE"]
 
 READY_TOPIC = "rig/ready"   # relative: under the node's namespace
 MATCH_TIMEOUT_S = 5.0  # longest wait for the publishers' side of discovery [s]
 READY_HOLD_S = 0.3  # inputs must have been ready this long before /rig/ready [s]
 GAP_EXIT_CODE = 3  # a node that saw a sequence gap exits with this code
 ACK_TOPIC = "rig/ack"
+PROGRESS_TOPIC = "rig/progress"   # KeyValue: component, tests it finished (a few a run)
 
 
 def message_class(type_name):
@@ -79,9 +81,12 @@ def latched_qos(depth=100):
 
 
 class RigNode(Node):
-    """Base of the rig's nodes. Subclasses set ``PARAMS`` (tuple of :class:`.params.Param`)."""
+    """Base of the rig's nodes. Subclasses set ``PARAMS`` (tuple of :class:`.params.Param`)
+    and ``TOPICS`` (tuple of :class:`.interfaces.Topic`: what the node publishes and
+    subscribes)."""
 
     PARAMS = ()
+    TOPICS = ()
 
     NAME = "node"
     ENDS_ITSELF = False   # does the node finish on its own (``finished``)? see run_node
@@ -304,6 +309,21 @@ def _init_ros(args):
         raise MotoflexError(f"cannot read the ROS arguments: {message}") from None
 
 
+def _unknown_arguments(args):
+    """A MotoflexError for command-line words outside ``--ros-args`` (a node takes none but
+    --help: ``identification --params-file p.yaml`` would otherwise run with its defaults)."""
+    from rclpy.utilities import remove_ros_args
+    try:
+        words = remove_ros_args(sys.argv if args is None else list(args))[1:]
+    except rclpy_implementation.RCLError:
+        return None   # ROS arguments rcl cannot parse: _init_ros says what is wrong
+    if words:
+        return MotoflexError(f"unknown argument '{words[0]}' (a node takes its settings "
+                             f"after --ros-args: --ros-args -p NAME:=VALUE or --params-file "
+                             f"FILE; --help lists them)")
+    return None
+
+
 def _help_asked(args):
     """Does the command line (not its ROS arguments) ask for -h / --help? (ROS arguments rcl
     cannot parse, e.g. a missing --params-file, are reported by :func:`_init_ros`.)"""
@@ -315,11 +335,15 @@ def _help_asked(args):
 
 
 def print_help(node_class):
-    """What ``node_class`` does (its module's summary) and its parameters, on stdout."""
+    """What ``node_class`` does (its module's summary), its topics and its parameters, on
+    stdout."""
     summary = (sys.modules[node_class.__module__].__doc__ or "").strip().split("\n\n")[0]
     print(f"usage: {node_class.NAME} [--help] [--ros-args [-p NAME:=VALUE]... "
-          f"[--params-file FILE]]\n\n{summary}\n\nparameters (type and range, default: "
-          "meaning):", *parameters_help(node_class.PARAMS), sep="\n")
+          f"[--params-file FILE]]\n\n{summary}\n\ntopics (relative: under the node's "
+          "namespace; {c}: each component; type [QoS]: meaning):",
+          *topics_help(node_class.TOPICS),
+          "\nparameters (type and range, default: meaning):",
+          *parameters_help(node_class.PARAMS), sep="\n")
 
 
 def _refuse(node_class, exc):
@@ -340,6 +364,9 @@ def run_node(node_class, args=None):
     profile = _profiler()
     try:
         configure_dds(os.environ)   # loopback unless MOTOFLEX_DDS=network (before rclpy.init)
+        unknown = _unknown_arguments(args)
+        if unknown is not None:
+            raise unknown
         _init_ros(args)
     except MotoflexError as exc:
         return _refuse(node_class, exc)

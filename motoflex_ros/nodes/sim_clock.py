@@ -11,6 +11,7 @@ import sys
 from rosgraph_msgs.msg import Clock
 
 from motoflex_ros.nodes.conversions import clock_msg, seconds_to_ns
+from motoflex_ros.nodes.interfaces import PACER_TOPICS, READY, RELIABLE, Topic
 from motoflex_ros.nodes.pacing import AckGate, ReadyWatch
 from motoflex_ros.nodes.params import Param
 from motoflex_ros.nodes.runtime import RigNode, run_node
@@ -36,6 +37,8 @@ class SimClock(RigNode):
         Param("stall_timeout", 10.0, 0.1, 3600.0,
               description="max wait for an ack, or for a node to be ready [s]"),
     )
+    TOPICS = (READY, *PACER_TOPICS, Topic("pub", "clock", "rosgraph_msgs/msg/Clock", RELIABLE,
+                                          "simulated time k * dt, paced by the acks"))
 
     def __init__(self):
         super().__init__()

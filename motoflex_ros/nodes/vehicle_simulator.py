@@ -50,6 +50,15 @@ from motoflex_ros.nodes.conversions import (
     results_from_statuses,
     seconds_to_ns,
 )
+from motoflex_ros.nodes.interfaces import (
+    LATCHED,
+    LATCHED_LAST,
+    RELIABLE,
+    RIG_TOPICS,
+    TF_DYNAMIC,
+    TF_STATIC,
+    Topic,
+)
 from motoflex_ros.nodes.pacing import Waiting
 from motoflex_ros.nodes.params import Param, ParameterError
 from motoflex_ros.nodes.runtime import RigNode, latched_qos, publish_patiently, run_node
@@ -79,6 +88,29 @@ class VehicleSimulatorNode(RigNode):
         Param("road_speed_kmh", 100.0, 1.0, 400.0, description="road-test speed [km/h]"),
         Param("bodies_rate_hz", 50.0, 0.1, 1000.0,
               description="rate of /vehicle/bodies [Hz] (at most the response's 200 Hz)"),
+    )
+    TOPICS = RIG_TOPICS + (
+        Topic("sub", "identification/results", "diagnostic_msgs/msg/DiagnosticArray", LATCHED,
+              "the identified parameters, from its run's identification node only",
+              when="result_file ''"),
+        Topic("pub", "vehicle/eigenvalues", "diagnostic_msgs/msg/DiagnosticArray", LATCHED,
+              "weave, wobble and capsize over speed (KeyValue JSON lists speeds_kmh, real "
+              "[1/s], frequency_hz), tracked by mode shape"),
+        Topic("pub", "vehicle/modes/speed_kmh", "std_msgs/msg/Float64MultiArray", LATCHED_LAST,
+              "the speeds of the sweep [km/h]", when="after the sweep"),
+        Topic("pub", "vehicle/modes/{c}/frequency_hz", "std_msgs/msg/Float64MultiArray",
+              LATCHED_LAST, "a mode's frequency over speed [Hz] ({c}: weave, wobble, capsize)",
+              when="after the sweep"),
+        Topic("pub", "vehicle/modes/{c}/real_part", "std_msgs/msg/Float64MultiArray",
+              LATCHED_LAST, "a mode's real part over speed [1/s] ({c}: weave, wobble, capsize)",
+              when="after the sweep"),
+        Topic("pub", "vehicle/joint_states", "sensor_msgs/msg/JointState", RELIABLE,
+              "road test: joint angles [rad or m], rates, applied torques, 200 Hz"),
+        Topic("pub", "vehicle/bodies", "geometry_msgs/msg/PoseArray", RELIABLE,
+              "road test: each body's centre-of-mass pose, frame odom, bodies_rate_hz"),
+        Topic("pub", "vehicle/joint_axes", "visualization_msgs/msg/Marker", LATCHED,
+              "one arrow per revolute joint, frame vehicle"),
+        TF_DYNAMIC, TF_STATIC,
     )
 
     def __init__(self):

@@ -5,9 +5,10 @@ structure (grey), the clamp points (light blue) and the loaded end q0 (orange); 
 deformation axis (blue, solid), the torsion axis (green, solid) and the bending axis (red,
 dashed) from the harmonic tests at the first torsion and bending eigenfrequencies, and the axes
 of the frequency sweep (thin, shaded from light at its first to dark at its last frequency, on
-the colour bar). Each axis passes through its joint at distance l from O along O-q0 and makes
-the angle beta with O-q0 (eqs. 5-6); the legend gives l [m] and beta [deg] of each (the
-JSON holds beta in rad).
+the colour bar); beyond the paper, the principal hinges (purple dotted, brown dash-dotted:
+:mod:`motoflex_ros.identify.principal`). Each axis passes through its joint at distance l from O
+along O-q0 and makes the angle beta with O-q0 (eqs. 5-6); the legend gives l [m] and beta [deg]
+of each (the JSON holds beta in rad).
 """
 import matplotlib
 
@@ -18,11 +19,15 @@ import numpy as np  # noqa: E402
 from motoflex_ros.plots.components import write_png_atomic  # noqa: E402
 
 __all__ = ["axes_figure", "plot_component_axes", "plot_measured_axes", "axis_segment",
+           "drawn_axes",
            "AXIS_STYLES", "SWEEP_CMAP"]
 
 AXIS_STYLES = {"static": {"color": "#1f77b4", "ls": "-", "lw": 2.5},
                "torsion": {"color": "#2ca02c", "ls": "-", "lw": 2.0},
-               "bending": {"color": "#d62728", "ls": "--", "lw": 2.0}}
+               "bending": {"color": "#d62728", "ls": "--", "lw": 2.0},
+               "principal 1": {"color": "#9467bd", "ls": ":", "lw": 2.5},
+               "principal 2": {"color": "#8c564b", "ls": "-.", "lw": 2.0},
+               "principal 3": {"color": "#e377c2", "ls": ":", "lw": 1.5}}
 """Colour and line style of each identified axis: no two alike (issue 16, point 7)."""
 SWEEP_CMAP = "Greys"
 
@@ -66,26 +71,36 @@ def _sweep(fig, ax, sweep, q0, half):
     bar.ax.set_ylim(freqs.min(), freqs.max())
 
 
+def drawn_axes(identified):
+    """{name: model} of the axes a figure draws: static, torsion, bending (those present) and
+    the principal hinges ('principal 1', ... when identified)."""
+    out = {name: identified[name] for name in ("static", "torsion", "bending")
+           if identified.get(name) is not None}
+    principal = identified.get("principal") or {}
+    if principal.get("identified"):
+        out.update({f"principal {i + 1}": h for i, h in enumerate(principal["hinges"])})
+    return out
+
+
 def _axes(fig, ax, identified, q0, half):
     _sweep(fig, ax, identified.get("sweep", []), q0, half)
-    for name in ("torsion", "bending", "static"):
-        m = identified[name]
+    drawn = drawn_axes(identified)
+    for name in ("torsion", "bending", "static", *[n for n in drawn if n.startswith("princ")]):
+        m = drawn.get(name)
         if m is None:   # a measured record without that test
             continue
         seg = axis_segment(m["l"], m["beta"], q0, half)
         at = f" at {m['f_hz']:.1f} Hz" if "f_hz" in m else ""
-        ax.plot(seg[:, 0], seg[:, 1], zorder=3, label=f"{name} axis{at}: {_geometry(m)}",
-                **AXIS_STYLES[name])
+        k = f", k = {m['k']:.3g} N m/rad" if name.startswith("principal") else ""
+        ax.plot(seg[:, 0], seg[:, 1], zorder=3,
+                label=f"{name} axis{at}: {_geometry(m)}{k}", **AXIS_STYLES[name])
 
 
 def _limits(xyz, identified, q0):
     """(lower, upper) corners [m] of the view: structure, joints near it and the axes' feet."""
     length = float(np.linalg.norm(q0))
     points = [xyz[:, [0, 2]]]
-    for name in ("static", "torsion", "bending"):
-        m = identified[name]
-        if m is None:
-            continue
+    for m in drawn_axes(identified).values():
         behind, ahead = axis_segment(m["l"], m["beta"], q0, 1.0)
         joint, direction = (behind + ahead) / 2.0, (ahead - behind) / 2.0
         foot = joint + np.dot(q0[[0, 2]] - joint, direction) * direction

@@ -8,8 +8,10 @@ VARIANT_LABELS = {"flexible": "flexible (Craig-Bampton)",
                   "static": "static axis", "torsion": "torsion axis", "bending": "bending axis",
                   "decomposed": "decomposed (eq. 12)", "rigid": "rigid",
                   "fitted": "fitted hinge", "road_load": "road-load test axis",
-                  "vehicle_load": "vehicle-load test axis"}
-"""How figures and tables name the model variants (Sect. 5.2; the last three: issue 14)."""
+                  "vehicle_load": "vehicle-load test axis",
+                  "principal": "principal hinges (bench, F_y + 2 moments)"}
+"""How figures and tables name the model variants (Sect. 5.2; fitted, road_load, vehicle_load:
+issue 14; principal: issue 22)."""
 QUANTITY_LABELS = {"weave_f": "weave frequency", "weave_re": "weave real part",
                    "wobble_f": "wobble frequency", "wobble_re": "wobble real part"}
 """How figures and tables name the compared quantities of eq. (18)."""

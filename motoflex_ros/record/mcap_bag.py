@@ -19,18 +19,20 @@ file name without ``_0``, no sequence numbers and no type hash in the channels.)
 """
 import functools
 import io
+import struct
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
 import yaml
-from mcap.exceptions import McapError
+from mcap.data_stream import ReadDataStream
 from mcap.reader import make_reader
-from mcap.records import Channel, Message, Schema
-from mcap.stream_reader import StreamReader
+from mcap.records import Channel, Chunk, Message, Schema
+from mcap.stream_reader import StreamReader, breakup_chunk
 from mcap.writer import CompressionType, Writer
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.files import atomic_write_bytes
+from motoflex_ros.files import atomic_write_bytes, file_kind, open_output
 
 __all__ = ["BagError", "TopicInfo", "BagInfo", "BagMessage", "BagWriter", "message_definition",
            "type_hash", "bag_info", "read_messages", "repair", "find_mcap", "METADATA_FILE",
@@ -40,6 +42,16 @@ METADATA_FILE = "metadata.yaml"
 BAG_FORMAT_VERSION = 9
 LIBRARY = "motoflex_ros.record.mcap_bag"
 DEFAULT_CHUNK_SIZE = 256 * 1024
+REPAIR_METADATA = "motoflex_repair"   # the MCAP metadata record of a repaired bag
+FOOTER_TAIL = 1 + 8 + 8 + 8 + 4 + 8   # footer record (opcode, length, 3 fields) + magic
+FOOTER_OPCODE = 0x02
+MAGIC = b"\x89MCAP0\r\n"
+# what reading a damaged MCAP file raises: McapError, and besides it whatever the parser and
+# the decompressors meet in bad bytes (struct.error, ValueError, EOFError, KeyError,
+# zstandard's ZstdError and lz4's errors, which are plain Exceptions). Caught only around the
+# reading of file bytes, where any of them means "this file is damaged", and turned into a
+# BagError naming the file and where in it.
+MCAP_ERRORS = (Exception,)
 INFINITE_NS = 2**63 - 1   # rmw's infinite duration [ns] (deadline, lifespan, lease)
 # rosbag2's enum values, which are rmw's: history 1 keep last, 2 keep all; reliability 1
 # reliable, 2 best effort; durability 1 transient local, 2 volatile; liveliness 1 automatic
@@ -88,6 +100,8 @@ class BagInfo:
     message_count: int
     start_ns: int
     duration_ns: int
+    repaired: str = ""
+    """'' for a bag as recorded; for one written by :func:`repair`, what it salvaged."""
 
     def count(self, topic):
         """Number of messages on ``topic`` (0 if the bag does not hold it)."""
@@ -145,7 +159,7 @@ class BagWriter:
         self.path = check_new_bag_dir(path)
         self.path.mkdir(parents=True, exist_ok=True)
         self.mcap_file = self.path / f"{self.path.name}_0.mcap"
-        self._stream = open(self.mcap_file, "wb")  # noqa: SIM115 (closed in close())
+        self._stream = open_output(self.mcap_file)   # closed in close(); errors name the file
         kinds = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4,
                  "none": CompressionType.NONE}
         self._writer = Writer(self._stream, chunk_size=chunk_size,
@@ -201,8 +215,10 @@ class BagWriter:
         if self.closed:
             return
         self.closed = True
-        self._writer.finish()
-        self._stream.close()
+        try:
+            self._writer.finish()
+        finally:
+            self._stream.close()   # also when the finish failed (a full disk): no open file
         topics = tuple(TopicInfo(t, self._types[t], self._counts[t], self._qos[t])
                        for t in self._channels)
         start = self._first or 0
@@ -245,36 +261,83 @@ def write_metadata(bag_dir, mcap_file, topics, start_ns, duration_ns):
 def find_mcap(path):
     """The MCAP file of a bag directory (or ``path`` itself if it is an .mcap file)."""
     path = Path(path)
-    if path.is_file() and path.suffix == ".mcap":
-        return path
+    if path.suffix == ".mcap" and path.exists() and not path.is_dir():
+        return _regular(path)
     if not path.is_dir():
         raise BagError(f"{path}: not a bag (no such directory or .mcap file)")
     files = sorted(p for p in path.glob("*.mcap") if not p.name.startswith("."))
     if len(files) != 1:
         raise BagError(f"{path}: not a bag (expected one .mcap file, found {len(files)})")
-    return files[0]
+    return _regular(files[0])
+
+
+def _regular(path):
+    """``path`` if it is a regular file (a FIFO, device or socket would block or never end
+    when read: refused before it is opened), else BagError."""
+    kind = file_kind(path.stat().st_mode)
+    if kind:
+        raise BagError(f"{path}: is {kind}, not a regular file: not a bag's MCAP file")
+    return path
+
+
+def _summary_crc_problem(stream):
+    """Why the summary section's CRC (the footer's summary_crc) does not hold, or None."""
+    size = stream.seek(0, io.SEEK_END)
+    if size < FOOTER_TAIL:
+        return None   # too short for a footer: the reader says what is wrong
+    stream.seek(size - FOOTER_TAIL)
+    _, _, summary_start, _, expected = struct.unpack("<BQQQI", stream.read(FOOTER_TAIL - 8))
+    if not expected or not summary_start or summary_start >= size:
+        return None
+    stream.seek(summary_start)
+    actual = zlib.crc32(stream.read(size - 8 - 4 - summary_start))
+    if actual != expected:
+        return (f"summary section at byte offset {summary_start} is corrupt (CRC "
+                f"{actual:#010x}, the footer says {expected:#010x})")
+    return None
 
 
 def _open_summary(mcap_file):
     try:
         with open(mcap_file, "rb") as stream:
-            summary = make_reader(stream).get_summary()
-    except (McapError, ValueError, OSError, EOFError, AssertionError) as exc:
-        raise BagError(f"{mcap_file}: not a readable MCAP file ({exc}); if its recorder was "
-                       f"killed, run 'motoflex bag repair {mcap_file.parent}'") from exc
+            problem = _summary_crc_problem(stream)
+            stream.seek(0)
+            reader = make_reader(stream)
+            summary = None if problem else reader.get_summary()
+            repaired = {} if problem or summary is None else {
+                k: v for m in reader.iter_metadata() if m.name == REPAIR_METADATA
+                for k, v in m.metadata.items()}
+    except MCAP_ERRORS as exc:
+        raise BagError(f"{mcap_file}: not a readable MCAP file ({_what(exc)}); if its "
+                       f"recorder was killed, run 'motoflex bag repair "
+                       f"{mcap_file.parent}'") from None
+    if problem:
+        raise BagError(f"{mcap_file}: {problem}; 'motoflex bag repair {mcap_file.parent}' "
+                       f"writes a new bag of what can be salvaged")
     if summary is None or summary.statistics is None:
         raise BagError(f"{mcap_file}: MCAP file has no summary; run 'motoflex bag repair'")
-    return summary
+    return summary, repaired
 
 
-def bag_info(path):
-    """Topics, counts and times of a bag, from its MCAP summary (see :class:`BagInfo`)."""
+def _what(exc):
+    """An exception of a corrupt file, in one short line."""
+    text = " ".join(str(exc).split())[:160]
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def bag_info(path, verify=False):
+    """Topics, counts and times of a bag, from its MCAP summary (see :class:`BagInfo`);
+    ``verify``: read every chunk too and check its CRC and the message counts
+    (BagError naming the first corrupt chunk and its byte offset)."""
     mcap_file = find_mcap(path)
     bag_dir = mcap_file.parent
     if not (bag_dir / METADATA_FILE).is_file():
         raise BagError(f"{bag_dir}: no {METADATA_FILE} (recorder killed?); run "
                        f"'motoflex bag repair {bag_dir}'")
-    summary = _open_summary(mcap_file)
+    summary, repaired = _open_summary(mcap_file)
+    if verify:
+        for _ in read_messages(mcap_file):
+            pass
     stats = summary.statistics
     counts = stats.channel_message_counts
     topics = tuple(TopicInfo(ch.topic, summary.schemas[ch.schema_id].name, counts.get(cid, 0),
@@ -282,73 +345,181 @@ def bag_info(path):
                    for cid, ch in sorted(summary.channels.items()))
     start = stats.message_start_time if stats.message_count else 0
     end = stats.message_end_time if stats.message_count else 0
-    return BagInfo(bag_dir, mcap_file, topics, stats.message_count, start, end - start)
+    return BagInfo(bag_dir, mcap_file, topics, stats.message_count, start, end - start,
+                   _repair_text(repaired))
+
+
+def _repair_text(repaired):
+    if not repaired:
+        return ""
+    return (f"salvaged {repaired.get('messages_salvaged', '?')} messages from "
+            f"{repaired.get('source', '?')}: {repaired.get('lost', '?')}")
+
+
+def _chunk_records(stream, mcap_file, index, number, total):
+    """The records of one chunk, its CRC checked; BagError naming it if it is corrupt."""
+    try:
+        stream.seek(index.chunk_start_offset + 1 + 8)
+        chunk = Chunk.read(ReadDataStream(stream))
+        return breakup_chunk(chunk, validate_crc=True)
+    except MCAP_ERRORS as exc:
+        raise BagError(f"{mcap_file}: chunk {number} of {total} at byte offset "
+                       f"{index.chunk_start_offset} is corrupt ({_what(exc)}); "
+                       f"'motoflex bag repair {mcap_file.parent}' writes a new bag without "
+                       f"it") from None
 
 
 def read_messages(path, topics=None):
-    """Yield the :class:`BagMessage` of a bag in file (recording) order, optionally filtered."""
+    """Yield the :class:`BagMessage` of a bag in file (recording) order, optionally filtered.
+
+    Every chunk's CRC is checked as it is read, and at the end the number of messages read
+    against the summary's: a corrupt or duplicated chunk is a BagError naming it, never a
+    message silently lost or read twice."""
     mcap_file = find_mcap(path)
-    _open_summary(mcap_file)
+    summary, _ = _open_summary(mcap_file)
     wanted = None if topics is None else set(topics)
+    channels = {cid for cid, ch in summary.channels.items() if wanted is None or
+                ch.topic in wanted}
+    expected = sum(summary.statistics.channel_message_counts.get(c, 0) for c in channels)
+    if expected and not summary.chunk_indexes:
+        raise BagError(f"{mcap_file}: MCAP file without chunk index (not written by a "
+                       f"rosbag2 MCAP writer); 'motoflex bag repair' rewrites it")
+    indexes = sorted(summary.chunk_indexes, key=lambda c: c.chunk_start_offset)
+    read = 0
     with open(mcap_file, "rb") as stream:
-        reader = make_reader(stream)
-        for schema, channel, message in reader.iter_messages(log_time_order=False):
-            if wanted is None or channel.topic in wanted:
-                yield BagMessage(channel.topic, schema.name, message.log_time, message.data)
+        for number, index in enumerate(indexes, 1):
+            if channels.isdisjoint(index.message_index_offsets):
+                continue
+            for record in _chunk_records(stream, mcap_file, index, number, len(indexes)):
+                if isinstance(record, Message) and record.channel_id in channels:
+                    channel = summary.channels[record.channel_id]
+                    read += 1
+                    yield BagMessage(channel.topic, summary.schemas[channel.schema_id].name,
+                                     record.log_time, record.data)
+    if read != expected:
+        raise BagError(f"{mcap_file}: {read} messages in its chunks, its summary counts "
+                       f"{expected} (a chunk lost or duplicated); 'motoflex bag repair' "
+                       f"writes a new bag")
+
+
+@dataclass
+class Salvage:
+    """What :func:`_salvage` kept of an MCAP file and what it lost, in words."""
+
+    schemas: dict
+    channels: dict
+    messages: list
+    lost_chunks: list
+    end: str
+
+    def lost(self):
+        """What the salvage could not keep, in words."""
+        parts = [f"chunk at byte offset {o} corrupt ({why})" for o, why in self.lost_chunks]
+        return "; ".join(p for p in (*parts, self.end) if p) or "nothing"
 
 
 def _salvage(mcap_file):
-    """Schemas, channels and messages of an MCAP file up to its last complete record."""
-    schemas, channels, messages = {}, {}, []
+    """Schemas, channels and messages of an MCAP file: every chunk whose CRC holds, up to
+    the last complete record (a corrupt chunk is skipped and noted)."""
+    found = Salvage({}, {}, [], [], "")
     with open(mcap_file, "rb") as stream:
+        reader = StreamReader(stream, emit_chunks=True)
         try:
-            for record in StreamReader(stream).records:
-                if isinstance(record, Schema):
-                    schemas[record.id] = record
-                elif isinstance(record, Channel):
-                    channels[record.id] = record
-                elif isinstance(record, Message):
-                    messages.append(record)
-        except Exception as exc:  # any truncation error ends the salvage
-            if not schemas and not channels and not messages:
-                raise BagError(f"{mcap_file}: nothing to salvage ({exc})") from exc
-    return schemas, channels, messages
+            for record in reader.records:
+                _keep(found, record, stream.tell() - _record_size(record))
+        except MCAP_ERRORS as exc:  # a truncated or damaged stream ends the salvage
+            if not (found.schemas or found.channels or found.messages):
+                raise BagError(f"{mcap_file}: nothing to salvage ({_what(exc)})") from None
+            found.end = f"the file ends in a damaged or incomplete record ({_what(exc)})"
+    return found
 
 
-def repair(path, chunk_size=DEFAULT_CHUNK_SIZE):
-    """Salvage a bag whose writer was killed and rewrite it as a valid bag; returns BagInfo.
+def _record_size(record):
+    """Bytes of a Chunk record in the file (opcode and length included; 0 for others)."""
+    if not isinstance(record, Chunk):
+        return 0
+    return 1 + 8 + 8 + 8 + 8 + 4 + 4 + len(record.compression) + 8 + len(record.data)
 
-    Reads the MCAP with a stream reader up to the last complete chunk, writes a new MCAP next to
-    it (temporary name, then rename over the old file) and writes ``metadata.yaml`` with the
-    true counts (the job of ``ros2 bag reindex``). A bag that is already valid is rewritten to
-    the same content.
+
+def _keep(found, record, offset):
+    """Keep ``record`` (a Chunk starting at byte ``offset``: its records, if its CRC holds)."""
+    if isinstance(record, Chunk):
+        try:
+            records = breakup_chunk(record, validate_crc=True)
+        except MCAP_ERRORS as exc:
+            found.lost_chunks.append((offset, _what(exc)))
+            return
+        for inner in records:
+            _keep(found, inner, offset)
+    elif isinstance(record, Schema):
+        found.schemas[record.id] = record
+    elif isinstance(record, Channel):
+        found.channels[record.id] = record
+    elif isinstance(record, Message):
+        found.messages.append(record)
+
+
+def _finished(mcap_file):
+    """Did the writer finish ``mcap_file`` (a footer record and the closing magic at its end),
+    however damaged the rest may be?"""
+    with open(mcap_file, "rb") as stream:
+        size = stream.seek(0, io.SEEK_END)
+        if size < FOOTER_TAIL + 8:
+            return False
+        stream.seek(size - FOOTER_TAIL)
+        tail = stream.read(FOOTER_TAIL)
+    return tail[0] == FOOTER_OPCODE and tail[-8:] == MAGIC
+
+
+def repair(path, out=None, chunk_size=DEFAULT_CHUNK_SIZE):
+    """Salvage a bag and write it as a valid bag, marked as repaired; returns its BagInfo.
+
+    A bag whose writer was killed (no footer at the end) is rewritten in place (the job of
+    ``ros2 bag reindex``: the file was never a complete bag). A finished bag is never touched: the
+    salvage goes to ``out`` (default ``<bag>_repaired`` beside it), a new bag directory.
+    Chunks whose CRC fails are left out. The new MCAP holds a metadata record
+    ``motoflex_repair`` (source, messages kept, what was lost) that :func:`bag_info` reports
+    as ``repaired``, so replay and report say so.
     """
     mcap_file = find_mcap(path)
-    schemas, channels, messages = _salvage(mcap_file)
+    if _finished(mcap_file) or out is not None:
+        target_dir = check_new_bag_dir(Path(out) if out is not None else
+                                       mcap_file.parent.with_name(
+                                           f"{mcap_file.parent.name}_repaired"))
+        target = target_dir / f"{target_dir.name}_0.mcap"
+    else:
+        target_dir, target = mcap_file.parent, mcap_file
+    found = _salvage(mcap_file)
     stream = io.BytesIO()
-    _rewrite(stream, schemas, channels, messages, chunk_size)
-    atomic_write_bytes(mcap_file, stream.getvalue())
+    mark = {"source": str(mcap_file), "messages_salvaged": str(len(found.messages)),
+            "lost": found.lost(), "in_place": str(target == mcap_file).lower()}
+    _rewrite(stream, found, chunk_size, mark)
+    target_dir.mkdir(parents=True, exist_ok=True)
+    atomic_write_bytes(target, stream.getvalue())
     counts = {}
-    for message in messages:
+    for message in found.messages:
         counts[message.channel_id] = counts.get(message.channel_id, 0) + 1
-    topics = tuple(TopicInfo(ch.topic, schemas[ch.schema_id].name, counts.get(cid, 0),
+    topics = tuple(TopicInfo(ch.topic, found.schemas[ch.schema_id].name, counts.get(cid, 0),
                              ch.metadata.get("offered_qos_profiles", ""))
-                   for cid, ch in sorted(channels.items()))
-    times = [m.log_time for m in messages] or [0]
-    write_metadata(mcap_file.parent, mcap_file, topics, min(times), max(times) - min(times))
-    return bag_info(mcap_file.parent)
+                   for cid, ch in sorted(found.channels.items()))
+    times = [m.log_time for m in found.messages] or [0]
+    write_metadata(target_dir, target, topics, min(times), max(times) - min(times))
+    return bag_info(target_dir)
 
 
-def _rewrite(stream, schemas, channels, messages, chunk_size):
+def _rewrite(stream, found, chunk_size, mark):
+    schemas, channels, messages = found.schemas, found.channels, found.messages
     writer = Writer(stream, chunk_size=chunk_size, compression=CompressionType.ZSTD)
     writer.start(profile="ros2", library=LIBRARY)
     writer.add_metadata("rosbag2", {"ROS_DISTRO": "jazzy"})
+    writer.add_metadata(REPAIR_METADATA, mark)
     schema_ids = {sid: writer.register_schema(s.name, s.encoding, s.data)
                   for sid, s in sorted(schemas.items())}
     channel_ids = {cid: writer.register_channel(c.topic, c.message_encoding,
                                                 schema_ids[c.schema_id], c.metadata)
                    for cid, c in sorted(channels.items())}
     for m in messages:
-        writer.add_message(channel_ids[m.channel_id], m.log_time, m.data, m.publish_time,
-                           m.sequence)
+        if m.channel_id in channel_ids:   # a message whose channel was in a lost chunk: gone
+            writer.add_message(channel_ids[m.channel_id], m.log_time, m.data, m.publish_time,
+                               m.sequence)
     writer.finish()

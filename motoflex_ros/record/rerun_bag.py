@@ -28,20 +28,19 @@ Times are the header stamps (the rig's simulated time; the bag's log times are t
 wall clock); ``sim_time`` is measured from the earliest stamp, which is 0 for a simulated run.
 """
 import functools
-import json
 import re
-import sys
 from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
 import rerun as rr
-from tqdm import tqdm
 
 from motoflex_ros.bench.replay import recorded_samples, replayed_displacements, shipped_model
+from motoflex_ros.files import read_json
 from motoflex_ros.frames import BENCH_SPACING_M
+from motoflex_ros.progress import progress_bar
 from motoflex_ros.record import rerun_log as rl
-from motoflex_ros.record.mcap_bag import bag_info, read_messages
+from motoflex_ros.record.mcap_bag import BagError, bag_info, read_messages
 from motoflex_ros.record.rerun_bag_vehicle import (
     EIG_TOPIC,
     log_eig_file,
@@ -137,8 +136,9 @@ def _log_bench_load(rec, component, topics, t0, model, bench_offset):
     if model:
         rl.log_component_frame(rec, component, model[0].origin, bench_offset)
         phases = [m.data for _, m in topics.get("phase", [])]
+        torques = [vec(m.wrench.torque) for _, m in samples]
         _log_replayed_structure(rec, component, model, times, recorded_samples(
-            phases, [(t, f[1]) for (t, _), f in zip(samples, forces)]))
+            phases, [(t, (*f, *m)) for (t, _), f, m in zip(samples, forces, torques)]))
 
 
 def _log_replayed_structure(rec, component, model, times, loads):
@@ -203,13 +203,16 @@ def _log_identification(rec, samples, t0, known, draw_axes):
 def _read_json(folder, *names):
     for name in names:
         if (folder / name).is_file():
-            return json.loads((folder / name).read_text(encoding="utf-8"))
+            try:
+                return read_json(folder / name)
+            except ValueError as exc:
+                raise BagError(f"{folder / name}: not a readable JSON file ({exc})") from None
     return None
 
 
 def _log_identified_axes(rec, identify, sim_time_s, log_values):
-    """Axes (static, torsion, bending, sweep) and (``log_values``) values of identify-format
-    results."""
+    """Axes (static, torsion, bending, the principal hinges, sweep) and (``log_values``)
+    values of identify-format results."""
     for component, result in identify.items():
         model = _model(component)
         if not isinstance(result, dict) or model is None:
@@ -221,6 +224,12 @@ def _log_identified_axes(rec, identify, sim_time_s, log_values):
                 rl.log_axis(rec, component, test, values["l"], values["beta"], q0)
                 if log_values:
                     rl.log_identification(rec, component, test, values, sim_time_s)
+        principal = result.get("principal") or {}
+        hinges = principal.get("hinges") or [] if principal.get("identified") else []
+        for i, hinge in enumerate(hinges):
+            rl.log_axis(rec, component, f"principal_{i + 1}", hinge["l"], hinge["beta"], q0)
+            if log_values:
+                rl.log_identification(rec, component, f"principal_{i + 1}", hinge, sim_time_s)
         sweep = result.get("sweep") or []
         if sweep:
             rl.log_sweep_axes(rec, component, [s["f_hz"] for s in sweep],
@@ -285,7 +294,7 @@ def convert_bag(bag_dir, rrd_path=None, motorcycle=None, progress=False):
     """
     bag_dir = Path(bag_dir)
     info = bag_info(bag_dir)
-    bar = tqdm(total=5, desc="rerun", unit="step", disable=not progress, file=sys.stderr)
+    bar = progress_bar(total=5, desc="rerun", unit="step", enabled=progress)
     bar.set_postfix_str(f"reading {info.message_count} messages")
     grouped = _collect(bag_dir)
     t0 = min((t for samples in grouped.values() for t, _ in samples if t is not None),

@@ -34,11 +34,11 @@ up, symmetry plane x-z; Passigato et al. 2023, Sect. 4.2, Fig. 2); ``/bench/<c>`
 placement of O in the vehicle frame (REP-103).
 """
 import os
-from pathlib import Path
 
 import numpy as np
 import rerun as rr
 
+from motoflex_ros.files import check_output_path
 from motoflex_ros.report.geometry import axis_from_l_beta, axis_segment
 
 __all__ = ["TIMELINE", "RunRecording", "log_component_frame",
@@ -49,7 +49,9 @@ __all__ = ["TIMELINE", "RunRecording", "log_component_frame",
 
 TIMELINE = "sim_time"
 MAX_SHAPE_FRAMES = 400      # deformed shapes logged per component (evenly subsampled)
-AXIS_COLORS = {"static": (40, 110, 255), "torsion": (30, 170, 60), "bending": (120, 200, 60)}
+AXIS_COLORS = {"static": (40, 110, 255), "torsion": (30, 170, 60), "bending": (120, 200, 60),
+               "principal_1": (148, 103, 189), "principal_2": (140, 86, 75),
+               "principal_3": (227, 119, 194)}
 STRUCTURE_COLOR = (230, 130, 30)
 UNDEFORMED_COLOR = (150, 150, 150)
 CLAMP_COLOR = (90, 200, 255)       # light blue, as the clamp dots of the paper's Figs. 2, 5-7
@@ -90,7 +92,7 @@ class RunRecording:
     """
 
     def __init__(self, rrd_path, run_name, layout=None):
-        self.path = Path(rrd_path)
+        self.path = check_output_path(rrd_path)   # a regular file or a new path, never a device
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._tmp = self.path.with_name(f".{self.path.name}.{os.getpid()}.tmp")
         self._layout = layout
@@ -259,7 +261,8 @@ def log_load(rec, component, times, forces, load_xyz, end_displacements,
 
 
 def log_axis(rec, component, test, l, beta, q0, half_length=None):
-    """Deformation axis of one test (static, torsion, bending) and its joint, as Figs. 5-7.
+    """Deformation axis of one test (static, torsion, bending, principal_<i>) and its joint, as
+    Figs. 5-7.
 
     l [m], beta [rad] as identified (eqs. 5-6); q0 [m] the unloaded loaded end. The strip is
     drawn ``half_length`` [m] (default: |q0|) either side of the joint in the x-z plane.

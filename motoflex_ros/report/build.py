@@ -3,13 +3,11 @@
 Sections whose data does not exist are listed as "not available" with the reason; no number
 is ever made up. Progress bars (tqdm, stderr) run over the data sources and the sections.
 """
-import sys
 import time
-
-from tqdm import tqdm
 
 from motoflex_ros.cli.output import atomic_write_text
 from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
+from motoflex_ros.progress import progress_bar
 from motoflex_ros.report import tables
 from motoflex_ros.report.html import Figure, Missing, Note, Section, render
 from motoflex_ros.report.provenance import provenance_table
@@ -159,8 +157,7 @@ def build_report(folder, compute=True, progress=True, warning=None, outcome=None
     summary = Section("summary", "Summary",
                       tuple(summary_parts(folder, run_data.data, run_data.files, outcome)))
     sections = [summary]
-    bar = tqdm(SECTIONS, desc="report sections", unit="section", disable=not progress,
-               file=sys.stderr)
+    bar = progress_bar(SECTIONS, desc="report sections", unit="section", enabled=progress)
     for spec in bar:
         bar.set_postfix_str(spec[0])
         start = time.perf_counter()

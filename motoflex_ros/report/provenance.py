@@ -7,9 +7,9 @@ sensor noise, written by ``motoflex campaign``). A field the run does not record
 "not recorded" with the reason, never filled in; what built the report itself (version,
 commit, time) is listed apart, since it may differ from what made the run.
 """
-import yaml
-
 import motoflex_ros
+from motoflex_ros.config import load_yaml
+from motoflex_ros.errors import ConfigError
 from motoflex_ros.launcher.provenance import (
     PROVENANCE_FILE,
     git_state,
@@ -31,8 +31,8 @@ def _metadata(folder):
     if not path.is_file():
         return None, f"no {METADATA_FILE} (no bag in the run folder)"
     try:
-        return yaml.safe_load(path.read_text())["rosbag2_bagfile_information"], None
-    except (OSError, yaml.YAMLError, KeyError, TypeError) as exc:
+        return load_yaml(path)["rosbag2_bagfile_information"], None
+    except (OSError, ConfigError, KeyError, TypeError) as exc:
         return None, f"{METADATA_FILE} unreadable ({exc})"
 
 
@@ -41,11 +41,15 @@ def _bag_rows(folder):
     fields = ("bag start (UTC)", "bag duration [s]", "messages in the bag", "ROS distribution")
     if info is None:
         return [(f, None, why) for f in fields]
-    start_ns = info["starting_time"]["nanoseconds_since_epoch"]
-    duration = f"{info['duration']['nanoseconds'] / 1e9:.2f}"
-    return list(zip(fields, (utc_stamp(start_ns / 1e9), duration,
-                             info["message_count"], info.get("ros_distro")),
-                    [METADATA_FILE] * 4))
+    try:
+        start_ns = info["starting_time"]["nanoseconds_since_epoch"]
+        values = (utc_stamp(start_ns / 1e9), f"{info['duration']['nanoseconds'] / 1e9:.2f}",
+                  int(info["message_count"]), _plain(info.get("ros_distro")))
+    except (KeyError, TypeError, ValueError, OverflowError, OSError) as exc:
+        why = f"{METADATA_FILE} unreadable (no valid {exc})" if isinstance(exc, KeyError) \
+            else f"{METADATA_FILE} unreadable ({exc})"
+        return [(f, None, why) for f in fields]
+    return list(zip(fields, values, [METADATA_FILE] * 4))
 
 
 def _status_rows(folder, outcome=None):
@@ -66,6 +70,22 @@ def _commit_text(commit, dirty, note):
     return commit + (" (with uncommitted changes)" if dirty else ""), None
 
 
+def _noise_text(noise):
+    """'frame 5e-06, ...' of the record's sensor_noise_m, or (None, why) when it is not a
+    mapping of numbers (a hand-edited file)."""
+    if not noise:
+        return None, f"not in {PROVENANCE_FILE}"
+    if not isinstance(noise, dict) or not all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in noise.values()):
+        return None, f"{PROVENANCE_FILE}: key 'sensor_noise_m' is not a mapping of numbers [m]"
+    return ", ".join(f"{c} {v:g}" for c, v in noise.items()), None
+
+
+def _plain(value):
+    """A scalar of the record as it is; a list or mapping where a scalar belongs: None."""
+    return value if isinstance(value, (str, int, float)) else None
+
+
 def _run_rows(folder):
     record = read_provenance(folder)
     fields = ("command", "run started (UTC)", "motoflex_ros version", "git commit", "seed",
@@ -74,14 +94,14 @@ def _run_rows(folder):
         why = (record or {}).get("unreadable", f"no {PROVENANCE_FILE} in the run folder "
                                  "(a run made before motoflex campaign wrote it)")
         return [(f, None, why) for f in fields]
-    commit, why = _commit_text(record.get("git_commit"), record.get("git_dirty"),
-                               record.get("git_note"))
-    noise = record.get("sensor_noise_m") or {}
-    noise_text = ", ".join(f"{c} {v:g}" for c, v in noise.items()) or None
+    commit, commit_why = _commit_text(_plain(record.get("git_commit")),
+                                      record.get("git_dirty"), _plain(record.get("git_note")))
+    noise_text, noise_why = _noise_text(record.get("sensor_noise_m"))
     values = (record.get("command"), record.get("started_utc"), record.get("package_version"),
               commit, record.get("seed"), noise_text)
-    return [(f, v, PROVENANCE_FILE if v is not None else (why if f == "git commit" else
-                                                           f"not in {PROVENANCE_FILE}"))
+    missing = {"git commit": commit_why, "sensor noise [m]": noise_why}
+    return [(f, _plain(v), PROVENANCE_FILE if _plain(v) is not None else
+             (missing.get(f) or f"not in {PROVENANCE_FILE}"))
             for f, v in zip(fields, values)]
 
 

@@ -12,10 +12,10 @@ import sys
 import time
 from dataclasses import dataclass, field
 
-from tqdm import tqdm
-
 from motoflex_ros.cli.output import atomic_write_text, emit_json
+from motoflex_ros.files import read_json
 from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
+from motoflex_ros.progress import progress_bar
 
 __all__ = ["Source", "SOURCES", "RunData", "load_run_data", "FIG9_VARIANTS"]
 
@@ -70,8 +70,8 @@ class RunData:
 
 def _read(path):
     try:
-        return json.loads(path.read_text(encoding="utf-8")), None
-    except (OSError, json.JSONDecodeError) as exc:
+        return read_json(path), None
+    except (OSError, ValueError) as exc:
         return None, f"{path.name} unreadable ({exc})"
 
 
@@ -110,7 +110,24 @@ def _save(folder, source, data):
     atomic_write_text(folder / source.file, buffer.getvalue())
 
 
+def _not_the_runs(folder, source):
+    """Why ``source`` may not be computed for ``folder`` (None if it may): a recorded run
+    without its own identification.json gets no identification made up offline, neither the
+    identification itself nor anything built of it (issue 23, point 8)."""
+    from motoflex_ros.report.run_folder import RUN_RESULT, is_recorded_run
+    uses_identification = source.name == "identify" or IDENTIFIED in source.args
+    if uses_identification and is_recorded_run(folder) and not (folder / RUN_RESULT).is_file():
+        return (f"the run recorded no {RUN_RESULT}; an identification computed now would not "
+                f"be the run's (not computed)")
+    return None
+
+
 def _load_one(folder, source, compute, run):
+    refused = _not_the_runs(folder, source)
+    if refused:
+        run.missing[source.name] = refused
+        run.files[source.name] = source.file
+        return
     saved = [folder / n for n in (source.file, *source.aliases) if (folder / n).is_file()]
     run.files[source.name] = saved[0].name if saved else source.file
     if saved:
@@ -139,8 +156,7 @@ def load_run_data(folder, compute=True, progress=True):
     if timings_path.is_file():
         run.campaign_timings, _ = _read(timings_path)
         run.campaign_timings = run.campaign_timings or {}
-    bar = tqdm(SOURCES, desc="report data", unit="source", disable=not progress,
-               file=sys.stderr)
+    bar = progress_bar(SOURCES, desc="report data", unit="source", enabled=progress)
     for source in bar:
         bar.set_postfix_str(source.name)
         start = time.perf_counter()

@@ -23,7 +23,7 @@ __all__ = ["Cell", "Table", "components_table", "table1", "table2", "identificat
            "json_cell",
            "paper_cell", "diff_cell", "ASSUMED_C_NOTE"]
 
-VARIANTS = ("state_of_the_art", "static", "torsion", "bending")
+VARIANTS = ("state_of_the_art", "static", "torsion", "bending", "principal")
 QUANTITIES = ("weave_f", "weave_re", "wobble_f", "wobble_re")
 INDICES = ("weave_low", "weave_high", "wobble_low", "wobble_high")
 FACTORS = ("k_tf", "k_bf", "k_ta", "k_ba", "k_ts", "k_bs")
@@ -150,24 +150,40 @@ def table2(identify, file="identify.json"):
                             "the torsion and bending axes (eq. 12)", header, tuple(rows)))
 
 
-def _k_interval(identify, file, c, test):
+def _k_interval(identify, file, *path):
     """Cells of the 95 % interval of k: 'n/a' where undefined (null), '-' where absent."""
-    if "k" not in identify[c][test].get("ci", {}):
+    values = identify
+    for key in path:
+        values = values[key]
+    if "k" not in values.get("ci", {}):
         return (Cell("-"), Cell("-"))
-    return tuple(json_cell(identify, file, c, test, "ci", "k", i) for i in (0, 1))
+    return tuple(json_cell(identify, file, *path, "ci", "k", i) for i in (0, 1))
+
+
+def _models(identify, c):
+    """(label, key path) of a component's models: static, torsion, bending and, where they
+    were identified, the principal hinges (beyond the paper)."""
+    out = [(test, (c, test)) for test in ("static", "torsion", "bending")]
+    principal = identify[c].get("principal") or {}
+    if principal.get("identified"):
+        out += [(f"principal {i + 1}", (c, "principal", "hinges", i))
+                for i in range(len(principal.get("hinges") or []))]
+    return out
 
 
 def identification_table(identify, file="identify.json"):
-    """Identified l, beta, b, k, c (and J, f) per component and test (eqs. 1-11), with the
-    95 % interval of k."""
+    """Identified l, beta, b, k, c (and J, f) per component and test (eqs. 1-11) and the
+    principal hinges, with the 95 % interval of k."""
     names = ("l", "beta", "b", "k", "c", "J", "f_hz")
     rows = []
     for c in COMPONENTS:
-        for test in ("static", "torsion", "bending"):
-            values = identify[c][test]
-            rows.append((Cell(c), Cell(test), *(
-                _value_cell(identify, file, c, test, n) if n in values else Cell("-")
-                for n in names), *_k_interval(identify, file, c, test)))
+        for label, path in _models(identify, c):
+            values = identify
+            for key in path:
+                values = values[key]
+            rows.append((Cell(c), Cell(label), *(
+                _value_cell(identify, file, *path, n) if n in values else Cell("-")
+                for n in names), *_k_interval(identify, file, *path)))
     return Table("identification", "Identified lumped stiffness models",
                  ("component", "test", "l [m]", "\u03b2 [deg]", "b [m]", "k [N m/rad]",
                   "c [N m s/rad]", "J [kg m^2]", "f [Hz]", "k 95 % low [N m/rad]",
@@ -180,12 +196,13 @@ ASSUMED_C_NOTE = (
     "c are identified (eqs. 9-11).")
 
 
-def _value_cell(identify, file, component, test, name):
-    """An identified value's cell: beta in degrees, the static test's c marked assumed."""
-    if name == "beta":
-        return _degrees(identify, file, component, test, name)
-    cell = json_cell(identify, file, component, test, name)
-    if test == "static" and name == "c" and cell.value is not None:
+def _value_cell(identify, file, *keys):
+    """An identified value's cell (``keys``: its path, the value's name last): beta in
+    degrees, the static test's c marked assumed."""
+    if keys[-1] == "beta":
+        return _degrees(identify, file, *keys)
+    cell = json_cell(identify, file, *keys)
+    if keys[-2:] == ("static", "c") and cell.value is not None:
         return Cell(f"{cell.text} (assumed)", cell.value, cell.kind, cell.file, cell.path)
     return cell
 
@@ -196,7 +213,9 @@ SYMBOLS_NOTE = (
     "the angle from the line O-q0 to the axis (eq. 6; the JSON holds it in rad), b [m] the "
     "lever arm from the axis to q0 (eq. 7), k [N m/rad] and c [N m s/rad] the torsional "
     "stiffness and damping about the axis, J [kg m^2] the inertia of the harmonic test's "
-    "fit and f [Hz] its frequency (eqs. 8-11).")
+    "fit and f [Hz] its frequency (eqs. 8-11). Principal hinges (beyond the paper): hinges in "
+    "series from the bench's 3 x 3 end compliance in the metric of the carried inertia "
+    "(static test and two moment tests), c = 0.001 s x k.")
 
 
 def _degrees(data, file, *keys):

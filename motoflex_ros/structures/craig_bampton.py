@@ -23,6 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from motoflex_ros.config import shown
 from motoflex_ros.errors import ModelError
 from motoflex_ros.structures.sparse_solver import factorize_spd
 
@@ -148,7 +149,8 @@ def checked_damping_ratio(zeta):
     every ratio is a finite number in [0, 1) (underdamped) and a list is not empty."""
     values = np.atleast_1d(np.asarray(zeta, float))
     if values.ndim != 1 or values.size == 0:
-        raise ModelError(f"damping ratio: expected a number or a non-empty list, got {zeta!r}")
+        raise ModelError(f"damping ratio: expected a number or a non-empty list, got "
+                         f"{shown(zeta)}")
     bad = [float(v) for v in values if not (np.isfinite(v) and 0.0 <= v < 1.0)]
     if bad:
         raise ModelError(f"damping ratio {bad[0]:g} is out of the allowed range [0, 1)")

@@ -22,6 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.files import missing_file_text
+from motoflex_ros.input_pins import note_input, read_input
 from motoflex_ros.structures.solid import SOLID_TYPES, SolidBlock
 
 __all__ = ["MeshData", "read_mesh", "MESH_SUFFIXES", "UNITS"]
@@ -65,12 +67,13 @@ class MeshData:
 def _read(path, yaml_source, key):
     import meshio
     if not path.is_file():
-        raise ConfigError(yaml_source, key, f"mesh file not found: {path}")
+        raise ConfigError(yaml_source, key, f"mesh file {path}: {missing_file_text(path)}")
     if path.suffix.lower() not in MESH_SUFFIXES:
         raise ConfigError(yaml_source, key, f"{path}: unsupported mesh format "
                                             f"'{path.suffix}' (supported: "
                                             f"{', '.join(MESH_SUFFIXES)})")
     fmt = "nastran" if path.suffix.lower() in _NASTRAN else None
+    note_input(path)   # meshio reads it itself: hashed (and checked against the run's pins)
     try:
         return meshio.read(str(path), file_format=fmt)
     except Exception as exc:   # meshio raises many kinds (ReadError, KeyError, ValueError...)
@@ -81,7 +84,7 @@ def _read(path, yaml_source, key):
 
 def _nastran_sets(path, points_id):
     """{str(SID): point indices} of the SET1 cards of a Nastran file (free or small field)."""
-    text = path.read_text(errors="replace")
+    text = read_input(path).decode(errors="replace")
     lookup = {int(g): i for i, g in enumerate(points_id)}
     cards, current = [], None
     for line in text.splitlines():

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
+from motoflex_ros.files import check_output_path
 from motoflex_ros.structures.craig_bampton import CraigBamptonModel
 
 __all__ = ["cache_folder", "reduction_key", "load_reduction", "store_reduction", "CODE_FILES"]
@@ -99,12 +100,15 @@ def store_reduction(key, cb):
                       t_shape=np.array(t.shape))
     else:
         arrays["transform"] = np.asarray(cb.transform)
+    tmp = None
     try:
+        target = check_output_path(folder / f"{key}.npz")   # never a rename over a FIFO
         folder.mkdir(parents=True, exist_ok=True)
         handle, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
         with os.fdopen(handle, "wb") as stream:
             np.savez(stream, **arrays)
-        os.replace(tmp, folder / f"{key}.npz")
-    except OSError:
-        return
+        os.replace(tmp, target)
+    except OSError:   # also a full disk: no temporary file left behind
+        if tmp is not None:
+            Path(tmp).unlink(missing_ok=True)
 

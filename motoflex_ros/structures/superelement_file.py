@@ -22,6 +22,7 @@ Rows that belong to no interface node are the reduction's generalized (modal) co
 superelement enters the bench and the vehicle like our own reductions: its matrices are the
 Craig-Bampton model (no reduction is made again), the clamps' rows are deleted for the bench.
 """
+import io
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -31,6 +32,8 @@ import scipy.sparse as sp
 
 from motoflex_ros.config import Field, validate
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.files import atomic_write_bytes, atomic_write_text, missing_file_text
+from motoflex_ros.input_pins import read_input
 from motoflex_ros.structures.assembly import AssembledStructure
 from motoflex_ros.structures.components import DEFAULT_DAMPING_RATIO, ComponentModel
 from motoflex_ros.structures.craig_bampton import CraigBamptonModel, checked_damping_ratio
@@ -120,12 +123,59 @@ class SuperelementComponent(ComponentModel):
         return cb, self.assembled()
 
 
+_ENTRIES = {"general": lambda n: n * n, "symmetric": lambda n: n * (n + 1) // 2,
+            "skew-symmetric": lambda n: n * (n - 1) // 2}
+
+
+def _mtx_size(path, source, key):
+    """Check a Matrix Market file's header and count its entries before it is read: a size
+    above MAX_SIZE, or fewer (or more) entries than the header says (a truncated file, which
+    scipy pads with zeros), is a ConfigError naming the file. Returns the number of rows."""
+    with open(path, encoding="utf-8", errors="replace") as stream:
+        banner = stream.readline(200).split()
+        line = stream.readline(200)
+        lines = 2
+        while line.startswith("%") or (line and not line.strip()):
+            line, lines = stream.readline(200), lines + 1
+        if len(banner) != 5 or banner[0].lower() != "%%matrixmarket" or \
+                banner[2].lower() not in ("array", "coordinate"):
+            raise ConfigError(source, key, f"{path}: not a Matrix Market file (line 1 must "
+                                           f"be '%%MatrixMarket matrix array|coordinate ...')")
+        layout, symmetry = banner[2].lower(), banner[4].lower()
+        try:
+            sizes = [int(v) for v in line.split()]
+        except ValueError:
+            sizes = []
+        if len(sizes) != (2 if layout == "array" else 3) or min(sizes) < 0:
+            raise ConfigError(source, key, f"{path}: line {lines}: expected the size "
+                                           f"('rows columns' or 'rows columns entries'), got "
+                                           f"'{line.strip()[:60]}'")
+        rows, columns = sizes[:2]
+        if max(rows, columns) > MAX_SIZE:
+            raise ConfigError(source, key, f"{path}: {max(rows, columns)} coordinates, more "
+                                           f"than {MAX_SIZE}")
+        if layout == "coordinate":
+            expected = sizes[2]
+        elif symmetry in _ENTRIES and rows == columns:
+            expected = _ENTRIES[symmetry](rows)
+        else:
+            expected = rows * columns
+        found = sum(1 for text in stream if text.strip() and not text.startswith("%"))
+    if found != expected:
+        raise ConfigError(source, key, f"{path}: {found} entries, its header (line {lines}) "
+                                       f"says {expected}: the file is "
+                                       f"{'truncated' if found < expected else 'too long'}")
+    return rows
+
+
 def _matrix(path, source, key, size=None):
     from scipy.io import mmread
     if not path.is_file():
-        raise ConfigError(source, key, f"matrix file not found: {path}")
+        raise ConfigError(source, key, f"matrix file {path}: {missing_file_text(path)}")
+    _mtx_size(path, source, key)
+    data = read_input(path)   # checked against the run's pins
     try:
-        matrix = mmread(str(path))
+        matrix = mmread(io.BytesIO(data))
     except Exception as exc:   # scipy raises ValueError, OSError, IndexError...
         raise ConfigError(source, key, f"{path}: not a Matrix Market file ({exc})") from None
     matrix = matrix.toarray() if sp.issparse(matrix) else np.asarray(matrix, float)
@@ -144,6 +194,42 @@ def _matrix(path, source, key, size=None):
     if asym > 1e-9 * max(np.abs(matrix).max(), 1e-300):
         raise ConfigError(source, key, f"{path}: not symmetric (largest |A - A^T| {asym:.3g})")
     return 0.5 * (matrix + matrix.T)
+
+
+SCALE_RANGE = {"superelement.stiffness": (1e-6, 1e16), "superelement.mass": (1e-12, 1e9)}
+"""Allowed largest |entry| of the reduced K [N/m, N, N m/rad; 1/s^2 on modal rows] and M [kg,
+kg m, kg m^2] in SI: wide enough for a watch spring and a bridge, not for a file scaled by
+1e-300 or 1e290 (whose eigenvalues underflow or overflow)."""
+
+
+def _check_scale(matrix, file, source, key):
+    low, high = SCALE_RANGE[key]
+    largest = float(np.abs(matrix).max())
+    if not low <= largest <= high:
+        raise ConfigError(source, key, f"{file}: largest |entry| {largest:.3g}, outside "
+                                       f"[{low:g}, {high:g}] (SI units: N/m and N m/rad, kg "
+                                       f"and kg m^2; zero, or scaled?)")
+
+
+def _check_definite(matrix, file, source, key, what):
+    """ConfigError unless ``matrix`` is positive definite (a Cholesky factorisation)."""
+    _, info = sla.lapack.dpotrf(np.asarray(matrix, float), lower=True, clean=False)
+    if info > 0:
+        raise ConfigError(source, key, f"{file}: {what} is not positive definite (its leading "
+                                       f"minor of order {info} is not positive): negated, "
+                                       f"singular or truncated?")
+
+
+def _check_physical(k, m, n_clamped, files, source):
+    """The reduced K and M (ordered clamps first) as a structure has them: entries of SI
+    size, M positive definite, K positive definite once the clamps' rows are deleted (the
+    clamped structure resists every motion)."""
+    _check_scale(k, files[0], source, "superelement.stiffness")
+    _check_scale(m, files[1], source, "superelement.mass")
+    _check_definite(m, files[1], source, "superelement.mass", "the mass matrix")
+    free = np.arange(n_clamped, k.shape[0])
+    _check_definite(k[np.ix_(free, free)], files[0], source, "superelement.stiffness",
+                    "the stiffness with the clamps' rows deleted")
 
 
 def load_superelement_component(cfg, path, damping_ratio):
@@ -188,9 +274,11 @@ def load_superelement_component(cfg, path, damping_ratio):
     points = np.array([interface[n]["point"] for n in names], float) * scale
     placement = cfg["placement"]
     nc = len(spec["clamps"])
+    k, m = k[np.ix_(order, order)], m[np.ix_(order, order)]
+    _check_physical(k, m, 6 * nc, (rel(spec["stiffness"]), rel(spec["mass"])), source)
     return SuperelementComponent(
-        name=mesh_component_name(cfg, path), K=k[np.ix_(order, order)],
-        M=m[np.ix_(order, order)], points=points, clamp_nodes=tuple(range(nc)), loaded_end=nc,
+        name=mesh_component_name(cfg, path), K=k, M=m, points=points,
+        clamp_nodes=tuple(range(nc)), loaded_end=nc,
         interface_nodes=tuple(range(len(names))), node_names={n: i for i, n in
                                                                enumerate(names)},
         origin=np.zeros(3) if placement is None else np.asarray(placement["origin"], float),
@@ -215,8 +303,9 @@ def export_superelement(component, directory, n_modes=20, f_max_hz=600.0):
     names = [by_index.get(i, f"node{i}") for i in component.interface_nodes]
     stem = component.name
     for suffix, matrix in (("K", cb.K), ("M", cb.M)):
-        mmwrite(str(directory / f"{stem}_{suffix}.mtx"), np.asarray(matrix), precision=17,
-                symmetry="symmetric")
+        buffer = io.BytesIO()
+        mmwrite(buffer, np.asarray(matrix), precision=17, symmetry="symmetric")
+        atomic_write_bytes(directory / f"{stem}_{suffix}.mtx", buffer.getvalue())
     zeta = component.damping_ratio
     cfg = {
         "component": "superelement", "name": stem,
@@ -235,5 +324,4 @@ def export_superelement(component, directory, n_modes=20, f_max_hz=600.0):
     if np.any(component.origin):
         cfg["placement"] = {"origin": [float(v) for v in component.origin]}
     path = directory / f"{stem}.yaml"
-    path.write_text(yaml.safe_dump(cfg, sort_keys=False))
-    return path
+    return atomic_write_text(path, yaml.safe_dump(cfg, sort_keys=False))

@@ -6,7 +6,10 @@ is the ground truth; every lumped variant (state of the art, static, torsion, be
 over the same speeds, weave and wobble are tracked by mode shape in each model, and eq. (18)
 gives e_RMS% of their frequency [Hz] and real part [1/s].
 
-Beyond the paper, three single hinges as the static model's (c = gamma k):
+Beyond the paper, "principal": the principal hinges in series identified on the bench from the
+static test and two moment tests (:mod:`motoflex_ros.identify.principal`), c = gamma k, the
+static model's inertia distribution; and three single hinges as the static model's (c = gamma
+k):
 
 - "road_load" and "vehicle_load" (:mod:`motoflex_ros.study.load_variants`): identified by eqs.
   1-8 from a bench test loaded through a lever at the tyre contact point, or by the wrench the
@@ -43,7 +46,7 @@ __all__ = ["CASES", "ACCURACY_VARIANTS", "PAPER_VARIANTS", "QUANTITIES", "Accura
 
 CASES = COMPONENTS + ("all",)
 PAPER_VARIANTS = ("state_of_the_art", "static", "torsion", "bending")
-ACCURACY_VARIANTS = PAPER_VARIANTS + ("fitted", "road_load", "vehicle_load")
+ACCURACY_VARIANTS = PAPER_VARIANTS + ("principal", "fitted", "road_load", "vehicle_load")
 QUANTITIES = ("weave_f", "weave_re", "wobble_f", "wobble_re")
 
 

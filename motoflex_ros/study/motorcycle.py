@@ -11,19 +11,27 @@ A_0), checked for linearity, and every run's pencil is a sum
 highest speed checks that sum (speed-independent spring terms). Weave and wobble are named
 by the engine's modal sweep of the nominal motorcycle (mode shape at its reference speed) and
 tracked in every run by continuation.
+
+Beyond the paper, the same study on the "principal" variant (:func:`principal_study`): the
+factors are the principal hinges' stiffnesses (:mod:`motoflex_ros.identify.principal`), each
+named after the paper's factor its axis stands for (t/b: within 45 deg of O-q0 or not, as the
+component model's modes are labelled; f/a/s the component), so that their Pearson coefficients
+can be set beside the flexible study's (:mod:`motoflex_ros.study.flexible_sensitivity`).
 """
 from dataclasses import dataclass
 
 import numpy as np
 
 from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.identify.measured import label_axis
 from motoflex_ros.identify.results import ResultsFile, results_source
 from motoflex_ros.study.factorial import FACTOR_DESCRIPTIONS, FACTORS
 from motoflex_ros.study.tracked import pencil_study
 from motoflex_ros.units import ms_to_kmh
 
 __all__ = ["FACTOR_KEYS", "DIRECTION_SPEED", "MotorcycleStudy", "nominal_stiffness",
-           "with_stiffness", "decomposed_study"]
+           "with_stiffness", "decomposed_study", "principal_factors", "with_principal_stiffness",
+           "principal_study"]
 
 # factor -> (component, key of the identification results)
 FACTOR_KEYS = {f: (component, "k_t" if axis == "torsion" else "k_b")
@@ -93,6 +101,76 @@ def _mode_targets(sweep):
     return targets
 
 
+def principal_factors(identified):
+    """{factor: (component, hinge index)} of the principal hinges of the three components:
+    'k_<t|b><f|a|s>' after the hinge's axis (torsion within 45 deg of O-q0, else bending) and
+    its component, 'k_p<i><f|a|s>' where two hinges of a component would share a name.
+
+    ModelError naming the component when its principal hinges are not identified.
+    """
+    from motoflex_ros.study.variants import check_principal
+    from motoflex_ros.vehicle.lumped import COMPONENTS
+    letters = {"frame": "f", "front_assembly": "a", "swingarm": "s"}
+    out = {}
+    for component in COMPONENTS:
+        if not isinstance(identified.get(component), dict) or \
+                "principal" not in identified[component]:
+            raise ConfigError(results_source(identified), f"{component}.principal",
+                              "missing (run motoflex identify with the moment tests)")
+        check_principal(identified, component)
+        for i, hinge in enumerate(identified[component]["principal"]["hinges"]):
+            axis = label_axis(float(hinge["beta"]))[0]
+            name = f"k_{axis}{letters[component]}"
+            out[name if name not in out else f"k_p{i + 1}{letters[component]}"] = (component, i)
+    return out
+
+
+def with_principal_stiffness(identified, values, factors):
+    """A copy of the identification results with the principal hinges' k replaced by
+    ``values`` ({factor: k} [N m/rad]; ``factors`` from :func:`principal_factors`)."""
+    out = {name: dict(result) for name, result in identified.items()}
+    if isinstance(identified, ResultsFile):
+        out = ResultsFile(out, identified.source)
+    for component in {c for c, _ in factors.values()}:
+        principal = dict(out[component]["principal"])
+        principal["hinges"] = [dict(h) for h in principal["hinges"]]
+        out[component]["principal"] = principal
+    for factor, value in values.items():
+        component, i = factors[factor]
+        out[component]["principal"]["hinges"][i]["k"] = float(value)
+    return out
+
+
+def _lumped_study(vehicle, components, speeds, variant, nominal, results_of):
+    """The pencil study of a lumped variant whose stiffnesses are the factors."""
+    from motoflex_ros.study.variants import build_variant
+    from motoflex_ros.vehicle.dynamics import build_system
+    from motoflex_ros.vehicle.linearize import linearize, linearize_at
+    from motoflex_ros.vehicle.lumped import COMPONENTS
+    from motoflex_ros.vehicle.modes import modal_sweep
+
+    def model(values):
+        return build_variant(vehicle, variant, list(COMPONENTS), results_of(values), components)
+
+    lin = linearize(model(nominal))
+    sweep = modal_sweep(lin, speeds)
+    study = pencil_study(lin.E_coeffs, lin.A_coeffs,
+                         lambda k: linearize_at(build_system(model(k)), DIRECTION_SPEED)[1],
+                         nominal, speeds, _mode_targets(sweep),
+                         reference=lambda k, v: linearize_at(build_system(model(k)), v))
+    return MotorcycleStudy(study=study, nominal=nominal, sweep=sweep)
+
+
+def principal_study(vehicle, components, identified, speeds):
+    """The sensitivity study function of the principal lumped motorcycle (module doc):
+    factors :func:`principal_factors`, nominal the identified hinges' k [N m/rad]."""
+    factors = principal_factors(identified)
+    nominal = {f: float(identified[c]["principal"]["hinges"][i]["k"])
+               for f, (c, i) in factors.items()}
+    return _lumped_study(vehicle, components, speeds, "principal", nominal,
+                         lambda values: with_principal_stiffness(identified, values, factors))
+
+
 def decomposed_study(vehicle, components, identified, speeds):
     """The sensitivity study function of the decomposed lumped motorcycle.
 
@@ -108,22 +186,6 @@ def decomposed_study(vehicle, components, identified, speeds):
         Speed grid [m/s] (e.g. 40-210 km/h).
 
     """
-    from motoflex_ros.study.variants import build_variant
-    from motoflex_ros.vehicle.dynamics import build_system
-    from motoflex_ros.vehicle.linearize import linearize, linearize_at
-    from motoflex_ros.vehicle.lumped import COMPONENTS
-    from motoflex_ros.vehicle.modes import modal_sweep
-
-    nominal = nominal_stiffness(identified)
-
-    def model(values):
-        return build_variant(vehicle, "decomposed", list(COMPONENTS),
-                             with_stiffness(identified, values), components)
-
-    lin = linearize(model(nominal))
-    sweep = modal_sweep(lin, speeds)
-    study = pencil_study(lin.E_coeffs, lin.A_coeffs,
-                         lambda k: linearize_at(build_system(model(k)), DIRECTION_SPEED)[1],
-                         nominal, speeds, _mode_targets(sweep),
-                         reference=lambda k, v: linearize_at(build_system(model(k)), v))
-    return MotorcycleStudy(study=study, nominal=nominal, sweep=sweep)
+    return _lumped_study(vehicle, components, speeds, "decomposed",
+                         nominal_stiffness(identified),
+                         lambda values: with_stiffness(identified, values))

@@ -17,9 +17,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from motoflex_ros.errors import ModelError
+from motoflex_ros.progress import progress_bar
 
 __all__ = ["StudyRun", "run_study", "design_blocks", "local_cluster", "SINGLE_THREAD_ENV"]
 
@@ -138,7 +138,7 @@ def run_study(study_function, design, scheduler=None, progress=True, block_size=
     """
     blocks = design_blocks(len(design), block_size)
     start = time.perf_counter()
-    with tqdm(total=len(design), unit="run", disable=not progress, desc="study") as bar:
+    with progress_bar(total=len(design), unit="run", enabled=progress, desc="study") as bar:
         if scheduler is None:
             outputs, where = _run_in_process(study_function, design, blocks, bar), "in-process"
         else:

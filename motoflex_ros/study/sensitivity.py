@@ -3,6 +3,12 @@
 Given a design and, per run, the weave and wobble eigenvalues over speed, computes the four
 stability indices (weave/wobble x low/high speed, eqs. 13-15), the ANOVA main-effect share of
 each and the Pearson coefficient of each factor with each index (eqs. 16-17).
+
+Beyond the paper, extra speed ranges (``extra_ranges_kmh``) add indices named
+"<mode>_<lo>-<hi>kmh" (:func:`extra_range_name`), e.g. "wobble_40-95kmh": where a mode's real
+part rises with speed, eq. 13 over 40-100 km/h takes its value at 100 km/h, and if the +/-10 %
+curves of a factor cross near there the index cannot see that factor's low-speed effect; a
+range that stops short of the crossing can (docs/beyond-the-paper-checks.md).
 """
 from dataclasses import dataclass
 
@@ -13,21 +19,34 @@ from motoflex_ros.study.correlation import pearson_table
 from motoflex_ros.study.factorial import full_factorial
 from motoflex_ros.study.runner import run_study
 from motoflex_ros.study.stability_index import stability_index
+from motoflex_ros.units import kmh_to_ms
 
 __all__ = ["MODES", "RANGES", "SensitivityResult", "stability_indices", "analyse_sensitivity",
-           "run_sensitivity"]
+           "run_sensitivity", "extra_range_name"]
 
 MODES = ("weave", "wobble")
 RANGES = ("low", "high")
 
 
-def stability_indices(speeds, curves, modes=MODES, ranges=RANGES):
+def extra_range_name(low_kmh, high_kmh):
+    """Name of an extra speed range in the index names: "40-95kmh" for 40 to 95 km/h."""
+    return f"{low_kmh:g}-{high_kmh:g}kmh"
+
+
+def stability_indices(speeds, curves, modes=MODES, ranges=RANGES, extra_ranges_kmh=()):
     """{"<mode>_<range>": StabilityIndex} from {mode: eigenvalues (runs, speeds)}.
 
     ``speeds`` [m/s]; the curves may be complex eigenvalues or real parts [1/s].
+    ``extra_ranges_kmh``: (low, high) pairs [km/h] inside the grid, indexed as
+    "<mode>_<low>-<high>kmh" after the named ranges.
     """
-    return {f"{mode}_{name}": stability_index(speeds, np.real(curves[mode]), name)
-            for mode in modes for name in ranges}
+    out = {f"{mode}_{name}": stability_index(speeds, np.real(curves[mode]), name)
+           for mode in modes for name in ranges}
+    for low, high in extra_ranges_kmh:
+        v_range = (float(kmh_to_ms(low)), float(kmh_to_ms(high)))
+        out.update({f"{mode}_{extra_range_name(low, high)}":
+                    stability_index(speeds, np.real(curves[mode]), v_range) for mode in modes})
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,13 +80,14 @@ def _finite_or_none(value):
     return float(value) if np.isfinite(value) else None
 
 
-def analyse_sensitivity(design, speeds, curves):
+def analyse_sensitivity(design, speeds, curves, extra_ranges_kmh=()):
     """Indices, ANOVA (main effects + two-factor interactions) and Pearson for a design.
 
     ``design`` is a factorial Design; ``curves`` maps "weave" and "wobble" to eigenvalues
-    (runs, speeds) [1/s] on ``speeds`` [m/s], runs in design order.
+    (runs, speeds) [1/s] on ``speeds`` [m/s], runs in design order; ``extra_ranges_kmh`` as in
+    :func:`stability_indices`.
     """
-    indices = stability_indices(speeds, curves)
+    indices = stability_indices(speeds, curves, extra_ranges_kmh=extra_ranges_kmh)
     responses = {name: index.s for name, index in indices.items()}
     return SensitivityResult(
         nominal=design.nominal_values(), indices=indices,
@@ -76,14 +96,16 @@ def analyse_sensitivity(design, speeds, curves):
 
 
 def run_sensitivity(study_function, nominal, speeds, levels=2, rel_range=0.10, scheduler=None,
-                    progress=True):
+                    progress=True, extra_ranges_kmh=()):
     """The whole sensitivity study: full factorial, study runs, indices, ANOVA, Pearson.
 
     ``study_function`` maps {factor: array (runs,)} [N m/rad] to {"weave": ..., "wobble": ...}
     eigenvalues (runs, speeds) on ``speeds`` [m/s] (e.g. from
-    :func:`motoflex_ros.study.tracked.pencil_study`); ``scheduler`` as in
-    :func:`motoflex_ros.study.runner.run_study`. Returns (SensitivityResult, StudyRun).
+    :func:`motoflex_ros.study.tracked.pencil_study`); the factors are ``nominal``'s keys in its
+    order (the paper's six, or the principal hinges'); ``scheduler`` as in
+    :func:`motoflex_ros.study.runner.run_study`; ``extra_ranges_kmh`` as in
+    :func:`stability_indices`. Returns (SensitivityResult, StudyRun).
     """
-    design = full_factorial(nominal, levels=levels, rel_range=rel_range)
+    design = full_factorial(nominal, levels=levels, rel_range=rel_range, factors=tuple(nominal))
     run = run_study(study_function, design, scheduler=scheduler, progress=progress)
-    return analyse_sensitivity(design, speeds, run.outputs), run
+    return analyse_sensitivity(design, speeds, run.outputs, extra_ranges_kmh), run

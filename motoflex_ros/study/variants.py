@@ -15,8 +15,10 @@ identification, structures and vehicle meet; the vehicle itself only takes lumpe
 """
 import numpy as np
 
+from motoflex_ros.config import number_text, shown
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.identify.axis import axis_stiffness
+from motoflex_ros.identify.principal import CarriedInertia
 from motoflex_ros.identify.results import results_source
 from motoflex_ros.identify.stiffness import GAMMA_S
 from motoflex_ros.vehicle import lumped
@@ -25,11 +27,18 @@ from motoflex_ros.vehicle.lumped import HINGE_VARIANTS, VARIANTS, FlexJoint, axi
 from motoflex_ros.vehicle.superelement import superelement_of
 from motoflex_ros.vehicle.variants import FLEX_CHOICES, FLEXIBLE, flexible_vehicle
 
-__all__ = ["build_variant", "flex_joints", "check_split_identifiable",
-           "state_of_the_art_stiffness", "SOTA_LOAD", "GAMMA"]
+__all__ = ["build_variant", "flex_joints", "check_split_identifiable", "check_principal",
+           "state_of_the_art_stiffness", "carried_of", "carried_by_component",
+           "carried_inertias", "SOTA_LOAD", "GAMMA", "SERIES_VARIANTS"]
 
 GAMMA = GAMMA_S
 """Proportionality constant of the static models' damping c = gamma k [s] (Sect. 5.2.4)."""
+
+
+SERIES_VARIANTS = ("decomposed", "principal")
+"""Variants of hinges in series at the loaded end (c = gamma k, the static model's inertia
+distribution): eq. (12)'s torsion and bending hinges, and the principal hinges
+(:mod:`motoflex_ros.identify.principal`)."""
 
 
 SOTA_LOAD = {"frame": "moment", "front_assembly": "lateral_force", "swingarm": "moment"}
@@ -79,28 +88,91 @@ def check_split_identifiable(identified, component):
                          f"positive k_t and k_b, use the static, torsion or bending variant")
 
 
+def check_principal(identified, component):
+    """Raise ModelError naming the component if its principal hinges were not identified
+    (``principal.identified`` False: the reason is in ``principal.problem``)."""
+    result = identified.get(component) if isinstance(identified, dict) else None
+    principal = result.get("principal") if isinstance(result, dict) else None
+    if isinstance(principal, dict) and principal.get("identified") is False:
+        raise ModelError(f"{results_source(identified)}: component '{component}': its "
+                         f"principal hinges are not identified ({principal.get('problem')}); "
+                         f"the principal variant needs them")
+
+
+def carried_of(vehicle, component, site):
+    """CarriedInertia (component frame) of what ``component``'s loaded end carries in the
+    vehicle (:data:`motoflex_ros.vehicle.lumped.CARRIED`): the principal hinges' metric in
+    the virtual rig."""
+    mass, com, inertia, passes, names = lumped.carried_inertia(vehicle, component)
+    return CarriedInertia(mass, np.asarray(com, float) - site.origin, inertia, passes,
+                          f"vehicle '{vehicle.name}': {', '.join(names)}")
+
+
+def carried_by_component(vehicle, components):
+    """{name: CarriedInertia} of the motorcycle components among ``components`` ({name:
+    structures Component}) placed in ``vehicle``."""
+    return {name: carried_of(vehicle, name, lumped.site_of(component))
+            for name, component in components.items() if name in lumped.CARRIED}
+
+
+def carried_inertias(components, vehicle="touring"):
+    """(Components, {name: CarriedInertia}): ``components`` (names, files or structures
+    Components) loaded, and what the loaded end of each motorcycle component among them
+    carries in the vehicle file ``vehicle`` (a shipped name or a path): the principal hinges'
+    metric in the virtual rig."""
+    from motoflex_ros.config import resolve_config
+    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.vehicle.model import load_vehicle
+    loaded = [component if hasattr(component, "clamped_reduced") else load_component(component)
+              for component in components]
+    placed = {c.name: c for c in loaded if c.name in lumped.CARRIED}
+    if not placed:
+        return loaded, {}
+    return loaded, carried_by_component(load_vehicle(resolve_config("vehicles", vehicle)),
+                                        placed)
+
+
+def _series_hinges(variant, component, identified):
+    """[(label, key path of l and beta, key path of k)] of a series variant's hinges."""
+    if variant == "decomposed":
+        check_split_identifiable(identified, component)
+        return [(test, (test,), (key,)) for test, key in (("torsion", "k_t"),
+                                                          ("bending", "k_b"))]
+    check_principal(identified, component)
+    hinges = _need(identified, component, "principal", "hinges", kind=list)
+    return [(f"principal{i + 1}", ("principal", "hinges", i), ("principal", "hinges", i, "k"))
+            for i in range(len(hinges))]
+
+
 def _show(value):
     return f"{value:.4g}" if isinstance(value, float) else repr(value)
 
 
-def _need(identified, component, *keys):
+def _need(identified, component, *keys, kind=float):
     value = identified
     path = ""
     for key in (component, *keys):
-        path = f"{path}.{key}" if path else key
-        if not isinstance(value, dict) or key not in value:
+        path = f"{path}[{key}]" if isinstance(key, int) else (f"{path}.{key}" if path else key)
+        found = (isinstance(value, list) and 0 <= key < len(value) if isinstance(key, int)
+                 else isinstance(value, dict) and key in value)
+        if not found:
             raise ConfigError(results_source(identified), path, "missing (run motoflex identify "
                                                               "or give a complete result file)")
         value = value[key]
+    if kind is list:
+        if not isinstance(value, list) or not value:
+            raise ConfigError(results_source(identified), path, f"expected a non-empty list, "
+                                                              f"got {value!r}")
+        return value
     name = keys[-1]
     positive = name.startswith("k")           # stiffness [N m/rad]
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
         raise ConfigError(results_source(identified), path, f"expected a finite number, got "
-                                                          f"{value!r}")
+                                                          f"{shown(value)}")
     if (positive and value <= 0) or (name in ("J", "c") and value < 0):
         allowed = "> 0" if positive else ">= 0"
         raise ConfigError(results_source(identified), path,
-                          f"value {value:g} is out of the allowed range ({allowed})")
+                          f"value {number_text(value)} is out of the allowed range ({allowed})")
     return float(value)
 
 
@@ -125,14 +197,13 @@ def flex_joints(variant, component, identified, site, sota=None):
         get = lambda *keys: _need(identified, component, variant, *keys)  # noqa: E731
         point, axis = axis_in_vehicle(site, get("l"), get("beta"))
         return (FlexJoint(name, point, axis, get("k"), get("c"), get("J")),)
-    if variant == "decomposed":
-        check_split_identifiable(identified, component)
+    if variant in SERIES_VARIANTS:
         joints = []
-        for test, key in (("torsion", "k_t"), ("bending", "k_b")):
-            point, axis = axis_in_vehicle(site, _need(identified, component, test, "l"),
-                                          _need(identified, component, test, "beta"))
-            k = _need(identified, component, key)
-            joints.append(FlexJoint(f"{component}_{test}", point, axis, k, GAMMA * k))
+        for label, where, k_path in _series_hinges(variant, component, identified):
+            point, axis = axis_in_vehicle(site, _need(identified, component, *where, "l"),
+                                          _need(identified, component, *where, "beta"))
+            k = _need(identified, component, *k_path)
+            joints.append(FlexJoint(f"{component}_{label}", point, axis, k, GAMMA * k))
         return tuple(joints)
     raise ConfigError("--flex", "variant", f"'{variant}' is not one of: "
                                            f"{', '.join(VARIANTS + HINGE_VARIANTS)}")

@@ -23,6 +23,9 @@ torsion, bending     harmonic test at the first torsion/bending    J (eq. 10) ab
                      frequency; c from eq. (11)                    taken from the donor
 decomposed           two joints in series: torsion axis with k_t   as static
                      and bending axis with k_b (eq. 12)
+principal            joints in series: the principal hinges of     as static
+                     the bench's 3 x 3 end compliance (beyond the
+                     paper, identify/principal.py)
 fitted, road_load,   one joint as static, its l, beta, k found     as static
 vehicle_load         otherwise (``HINGE_VARIANTS``: beyond the
                      paper, :mod:`motoflex_ros.study.fitted` and
@@ -53,9 +56,10 @@ from motoflex_ros.vehicle.model import Body, Joint, composite_inertia
 __all__ = ["VARIANTS", "COMPONENTS", "FlexJoint", "ComponentSite", "site_of", "axis_in_vehicle",
            "state_of_the_art_axis", "check_site", "reattach", "lumped_vehicle", "mass_properties",
            "MOUNTS", "SUPERELEMENT_PARENT", "SUPERELEMENT_FOLLOWS", "NEW_BODY",
-           "HINGE_VARIANTS"]
+           "HINGE_VARIANTS", "CARRIED", "carried_inertia"]
 
-VARIANTS = ("rigid", "state_of_the_art", "static", "torsion", "bending", "decomposed")
+VARIANTS = ("rigid", "state_of_the_art", "static", "torsion", "bending", "decomposed",
+            "principal")
 HINGE_VARIANTS = ("fitted", "road_load", "vehicle_load")
 """Single hinges as the static model's (c = gamma k, same inertia distribution) whose l, beta
 and k come from elsewhere than the paper's static test: fitted to the flexible motorcycle,
@@ -83,6 +87,17 @@ SUPERELEMENT_FOLLOWS = {
 node of that body; the bodies not named follow SUPERELEMENT_PARENT. The front assembly's arm
 is on its pivot in the frame and does not steer; its bridge and stanchions hang from the head
 joint (docs/boundary-conditions.md)."""
+CARRIED = {
+    # component: (bodies, wheels, passes moments): what the loaded end carries
+    "frame": (("upper_fork", "lower_fork"), ("front",), False),
+    "front_assembly": (("lower_fork",), ("front",), True),
+    "swingarm": ((), ("rear",), True),
+}
+"""What hangs from each component's loaded end, for the metric of its principal hinges
+(:mod:`motoflex_ros.identify.principal`): the front assembly carries the lower fork (its wheel
+carrier) and the front wheel; the swingarm the rear wheel (the wheel carrier is part of the
+component); the frame's steering head carries the front, but through the Telelever's spherical
+head joint, which passes no moment: only its mass at the head counts."""
 TOLERANCE = 1e-3
 """How far [m] a component's interface point may lie from the vehicle's joint point."""
 
@@ -164,6 +179,18 @@ def mass_properties(model):
     items = [(b.mass, b.com, b.inertia) for b in model.bodies]
     items += [(w.mass, w.centre, w.inertia) for w in model.wheels]
     return composite_inertia(items)
+
+
+def carried_inertia(model, component):
+    """(mass [kg], centre of mass [m] (vehicle frame), inertia about it [kg m^2], passes
+    moments, names) of what ``component``'s loaded end carries in ``model`` (:data:`CARRIED`),
+    in the reference configuration."""
+    body_names, wheel_names, passes = CARRIED[component]
+    bodies = {b.name: b for b in model.bodies}
+    items = [(b.mass, b.com, b.inertia) for b in (_body(bodies, n, model) for n in body_names)]
+    items += [(w.mass, w.centre, w.inertia) for w in (_wheel(model, n) for n in wheel_names)]
+    mass, com, inertia = composite_inertia(items)
+    return mass, com, inertia, passes, body_names + wheel_names
 
 
 def _distance_to_line(point, line_point, direction):

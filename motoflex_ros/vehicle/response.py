@@ -18,7 +18,8 @@ import scipy.linalg
 from motoflex_ros.errors import ModelError
 from motoflex_ros.vehicle.dynamics import residual
 
-__all__ = ["PulseResponse", "joint_input", "regular_part", "steer_pulse_response"]
+__all__ = ["PulseResponse", "joint_input", "pulse_output_names", "regular_part",
+           "steer_pulse_response"]
 
 
 @dataclass(frozen=True)
@@ -82,17 +83,19 @@ def regular_part(E, A, b, rtol=1e-10):
     return a, bz, V1 + V2 @ k_z, V2 @ k_u
 
 
-def _output_names(lin, joint, outputs):
-    """The requested state names, or the default ones; ModelError naming an unknown one."""
-    default = [joint, "roll_rate"] + (["yaw_rate"] if "yaw_rate" in lin.state_names else [])
+def pulse_output_names(system, joint, outputs):
+    """The requested state names of the VehicleSystem ``system``, or the default ones (the
+    steer angle ``joint``, roll rate and, where it is a state, yaw rate); ModelError naming an
+    unknown one."""
+    default = [joint, "roll_rate"] + (["yaw_rate"] if "yaw_rate" in system.state_names else [])
     names = tuple(outputs or default)
-    unknown = [n for n in names if n not in lin.state_names]
+    unknown = [n for n in names if n not in system.state_names]
     if unknown:
         hint = (" (with knife-edge wheels the lateral and yaw rates follow from the rolling "
                 "constraints: they are not states)"
                 if unknown[0] in ("yaw_rate", "y_rate") else "")
-        raise ModelError(f"{lin.system.model.source}: no state {unknown[0]!r} to output{hint}; "
-                         f"states: {', '.join(lin.state_names)}")
+        raise ModelError(f"{system.model.source}: no state {unknown[0]!r} to output{hint}; "
+                         f"states: {', '.join(system.state_names)}")
     return names
 
 
@@ -125,7 +128,7 @@ def steer_pulse_response(lin, speed, torque=20.0, duration=0.05, t_end=4.0, dt=0
     joint = lin.system.model.roles.get("steer")
     if joint is None:
         raise ModelError(f"{lin.system.model.source}: no 'steer' role to apply the pulse to")
-    names = _output_names(lin, joint, outputs)
+    names = pulse_output_names(lin.system, joint, outputs)
     rows = [lin.state_names.index(name) for name in names]
     E, A = lin.pencil([speed])
     a, b, to_x, feed = regular_part(E[0], A[0], joint_input(lin, joint))

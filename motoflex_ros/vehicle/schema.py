@@ -125,7 +125,7 @@ MF_COEFFICIENTS = ("Cy", "pdy1", "pdy2", "pdy3", "pey1", "pey2", "pey4", "pky1",
                    "qbz5", "qbz6", "qbz9", "qbz10", "qdz1", "qdz2", "qdz3", "qdz4", "qdz8",
                    "qdz9", "qdz10", "qdz11", "qez1", "qez2", "qez5", "qhz3", "qhz4")
 """Pure-slip side force and aligning moment coefficients of the motorcycle Magic Formula that
-:mod:`motoflex_ros.vehicle.tyre` uses (reference/motorcycle-data.md sect. 1.1-1.2, names as in
+:mod:`motoflex_ros.vehicle.tyre` uses ([MD] and [TUM] in docs/references.md, names as in
 [MD]); the combined-slip and longitudinal ones (rby*, Cyk...) are not modelled. All are required
 (missing ones are listed together by ``tyre_from_config``); any other key is refused."""
 

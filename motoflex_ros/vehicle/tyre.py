@@ -13,8 +13,8 @@ slip, the camber force points to the side the wheel leans to, the pneumatic trai
 wheel into its direction of travel, and the camber twisting moment turns it towards the lean
 side. The relaxation length is sigma(v) = s0 + s1 v + s2 v^2 [m].
 
-Magic Formula: Sharp, Evangelou & Limebeer (2004) motorcycle tyre as transcribed in
-reference/motorcycle-data.md sect. 1.4 ([TUM] variant of the camber term inside the sine).
+Magic Formula: Sharp, Evangelou & Limebeer (2004) motorcycle tyre as written in [MD] and [TUM]
+(docs/references.md#sel2004; the [TUM] variant of the camber term inside the sine).
 """
 from dataclasses import dataclass
 
