@@ -66,10 +66,10 @@ def test_identification_status_warns(tube):
 
 
 def test_campaign_table_shows_na(tube, capsys):
-    from motoflex_ros.cli.campaign import _table
-    _table({"frame": to_jsonable(tube.to_dict())})
+    from motoflex_ros.cli.campaign_summary import stiffness_table
+    stiffness_table({"frame": to_jsonable(tube.to_dict())}, {})
     rows = [line.split() for line in capsys.readouterr().out.splitlines()[2:]]
-    assert [r[2] for r in rows if r[1] in ("k_t", "k_b")] == ["n/a", "n/a"]
+    assert [r[2] for r in rows if r[0] == "frame" and r[1] in ("k_t", "k_b")] == ["n/a", "n/a"]
 
 
 def motorcycle_results(tube, unidentifiable):

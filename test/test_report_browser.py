@@ -5,7 +5,8 @@ The report of a copy of bags/example is opened from file:// over the DevTools pr
 plot region must not be blank (pixel statistics: ink on at least MIN_INK of its pixels, and data
 drawn in colour on at least MIN_COLOURED: axes, ticks and text alone are black and grey) and it
 must be shown at its own pixel width (not shrunk); the rendered text of
-the stability section names the identified motorcycle. MOTOFLEX_SAVE_REPORT_PNG=folder keeps
+the stability section names the identified motorcycle; the first section the browser lays out
+is the summary with the run's status (issue 24). MOTOFLEX_SAVE_REPORT_PNG=folder keeps
 the screenshots.
 """
 import io
@@ -62,6 +63,8 @@ def test_report_renders_plots_and_names_the_motorcycle_in_chromium(report):
                                            ("x", "y", "width", "height")})
                  for name in FIGURES if name in layout}
         stability = browser.evaluate("document.getElementById('section-vehicle').innerText")
+        first = browser.evaluate("(() => { const s = document.querySelector('section'); "
+                                 "return [s.id, s.innerText]; })()")
     finally:
         browser.close()
     keep = os.environ.get("MOTOFLEX_SAVE_REPORT_PNG")
@@ -77,6 +80,10 @@ def test_report_renders_plots_and_names_the_motorcycle_in_chromium(report):
     eig = json.loads((report / "eig.json").read_text())
     assert f"lumped '{eig['variant']}' variant" in stability
     assert "Vehicle stability" in stability
+    # what a reader meets first: the summary, naming how the run ended and the verdict
+    status = json.loads((report / "status.json").read_text())["status"]
+    assert first[0] == "section-summary", first[0]
+    assert f"Run {report.name}: {status}" in first[1] and "Verdict:" in first[1]
 
 
 def _png(draw):

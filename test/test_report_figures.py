@@ -17,6 +17,7 @@ from motoflex_ros.structures.published import COMPONENTS
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 MIN_BAR_PX = 3.0
+MIN_LABEL_PX = 10.0
 
 
 def _example(name):
@@ -111,6 +112,8 @@ def test_mode_figures_are_readable_and_scaled_as_stated(name):
 
 
 def test_fig8_every_bar_visible_and_named():
+    """Every bar of every variant in the JSON is drawn, long enough to see, named, with its
+    value written beside it horizontally in a readable size."""
     from motoflex_ros.plots.study import accuracy_bars_figure
     accuracy = _example("accuracy.json")
     smallest = min(v for case in accuracy.values() for variant in case.values()
@@ -123,10 +126,17 @@ def test_fig8_every_bar_visible_and_named():
         # one bar per case, variant and quantity (one panel per quantity)
         assert len(bars) == sum(len(variants) * len(next(iter(variants.values())))
                                 for variants in accuracy.values())
-        heights = [p.get_window_extent().height for p in bars]
-        assert min(heights) >= MIN_BAR_PX, min(heights)
-        ticks = [t.get_text() for ax in fig.axes for t in ax.get_xticklabels()]
+        lengths = [p.get_window_extent().width for p in bars]     # horizontal bars
+        assert min(lengths) >= MIN_BAR_PX, min(lengths)
+        ticks = [t.get_text() for ax in fig.axes for t in ax.get_yticklabels()]
         assert ticks and all("_" not in t for t in ticks)
+        # the values beside the bars: horizontal and at least MIN_LABEL_PX tall at the
+        # report's resolution (they were 5 px and turned on end)
+        from motoflex_ros.report.figures import DPI
+        for ax in fig.axes:
+            for text in ax.texts:
+                assert text.get_rotation() == 0.0, text.get_text()
+                assert text.get_fontsize() * DPI / 72.0 >= MIN_LABEL_PX, text.get_fontsize()
         legend = [t.get_text() for t in fig.legends[0].get_texts()]
         assert all("_" not in t for t in legend)
         values = {float(t.get_text()) for ax in fig.axes for t in ax.texts}

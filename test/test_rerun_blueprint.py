@@ -1,5 +1,7 @@
 """The rerun layout of a converted run: every view of the stored blueprint shows logged rows.
 
+The identification is a table per component, the speed views bar charts over km/h (issue 24).
+
 The example campaign bag (bags/example) is converted; the test reads the .rrd back, walks the
 blueprint from the viewport through its containers to every view, and evaluates each view's
 query expressions over the recording's entity paths as rerun does (issue 16, point 1: the
@@ -7,10 +9,15 @@ eigenvalue views queried '/vehicle/eigenvalues/*/real_part', which matches nothi
 """
 from pathlib import Path
 
+import numpy as np
 import pytest
 
-from motoflex_ros.record.rerun_log import IDENTIFIED_QUANTITIES, quantity_of
-from motoflex_ros.record.rerun_readback import blueprint_views, entity_rows, query_entities
+from motoflex_ros.record.rerun_readback import (
+    blueprint_views,
+    entity_rows,
+    query_entities,
+    scalar_values,
+)
 
 EXAMPLE_BAG = Path(__file__).resolve().parents[1] / "bags" / "example"
 
@@ -22,7 +29,7 @@ def recording(tmp_path_factory):
         pytest.skip("bags/example is not in this checkout")
     rrd, _ = write_recording(EXAMPLE_BAG, tmp_path_factory.mktemp("rrd") / "example.rrd")
     temporal, static = entity_rows(rrd), entity_rows(rrd, static=True)
-    return blueprint_views(rrd), temporal, static
+    return blueprint_views(rrd), temporal, static, rrd
 
 
 def _shown(view, temporal, static):
@@ -34,34 +41,62 @@ def _shown(view, temporal, static):
 
 
 def test_every_blueprint_view_resolves_to_entities_with_rows(recording):
-    views, temporal, static = recording
+    views, temporal, static, _ = recording
     assert len(views) > 10
     empty = [view.name for view in views if not _shown(view, temporal, static)]
     assert not empty, f"views without data: {empty}"
 
 
-def test_identification_one_view_per_component_and_quantity_with_units(recording):
-    views, temporal, static = recording
-    logged = {}
-    for path in temporal:
-        parts = path.strip("/").split("/")
-        if parts[0] == "identification" and quantity_of(parts[-1]):
-            logged.setdefault((parts[1], quantity_of(parts[-1])), set()).add(path)
-    assert {c for c, _ in logged} == {"frame", "front_assembly", "swingarm"}
-    shown = {view.name: set(_shown(view, temporal, static))
+def test_identification_one_table_per_component_in_units(recording):
+    """Issue 24, point 6: the identified values as a table per component (one view each, on
+    any timeline), every value of the run's identification.json in it, beta in degrees and the
+    static c marked assumed (they were one dot each on a time axis, beta in rad)."""
+    import json
+
+    from motoflex_ros.record.rerun_readback import component_rows
+    views, temporal, static, _ = recording
+    shown = {view.name: (view.kind, _shown(view, temporal, static))
              for view in views if view.origin.startswith("/identification")}
-    expected = {f"{c}: {q} [{IDENTIFIED_QUANTITIES[q]}]": paths
-                for (c, q), paths in logged.items()}
-    assert shown == expected
+    assert shown == {f"{c}: identified values": ("TextDocument", [f"/identification/{c}/table"])
+                     for c in ("frame", "front_assembly", "swingarm")}
+    identified = json.loads((EXAMPLE_BAG / "identification.json").read_text())
+    rrd = recording[3]
+    for c, result in identified.items():
+        # the last of the table's static rows is what the viewer shows (the run's file's)
+        text = component_rows(rrd, f"/identification/{c}/table", "TextDocument:text")[-1][1][0]
+        rows = {line.split("|")[1].strip(): [cell.strip() for cell in line.split("|")[2:-1]]
+                for line in text.splitlines() if line.startswith("| ")}
+        assert rows["test"][1] == "\u03b2 [deg]"
+        for test in ("static", "torsion", "bending"):
+            assert float(rows[test][1]) == pytest.approx(np.degrees(result[test]["beta"]),
+                                                         abs=0.006)
+            assert float(rows[test][3]) == pytest.approx(result[test]["k"], rel=1e-3)
+        assert rows["static"][4].endswith("(assumed)")
+        assert f"k_t = {result['k_t']:.4g}" in text and f"k_b = {result['k_b']:.4g}" in text
 
 
-def test_eigenvalue_views_plot_the_tracked_modes(recording):
-    views, temporal, static = recording
-    by_name = {view.name: view for view in views}
-    for what, name in (("real_part", "Real part against speed [1/s]"),
-                       ("frequency_hz", "Frequency against speed [Hz]")):
-        assert set(_shown(by_name[name], temporal, static)) == {
-            f"/vehicle/eigenvalues/{mode}/{what}" for mode in ("weave", "wobble", "capsize")}
+def test_stability_bars_are_the_tracked_modes_over_speed(recording):
+    """The vehicle's speed views are bar charts over km/h (static: the timeline the viewer
+    opens on shows them), weave and wobble each in its colour, equal to the bag's
+    eigenvalues."""
+    from motoflex_ros.record.rerun_readback import component_rows
+    from motoflex_ros.record.rerun_vehicle import MODE_COLORS
+    views, temporal, static, _ = recording
+    bars = {view.name: _shown(view, temporal, static) for view in views
+            if view.kind == "BarChart"}
+    assert bars == {f"{m} {label} / km/h": [f"/vehicle/stability/{m}/{q}"]
+                    for q, label in (("real_part", "Re [1/s]"), ("frequency_hz", "f [Hz]"))
+                    for m in ("weave", "wobble")}
+    rrd = recording[3]
+    for mode in ("weave", "wobble"):
+        real = scalar_values(rrd, f"/vehicle/eigenvalues/{mode}/real_part")
+        values = component_rows(rrd, f"/vehicle/stability/{mode}/real_part",
+                                "BarChart:values")[-1][1]
+        np.testing.assert_allclose(values[0]["buffer"], np.nan_to_num(real), rtol=1e-12)
+        color = component_rows(rrd, f"/vehicle/stability/{mode}/real_part",
+                               "BarChart:color")[-1][1]
+        assert color[0] >> 8 == (MODE_COLORS[mode][0] << 16) + (MODE_COLORS[mode][1] << 8) \
+            + MODE_COLORS[mode][2]
 
 
 def test_query_entities_as_rerun_documents():

@@ -316,7 +316,9 @@ def test_campaign_sockets_on_loopback_and_explicit_domain_honoured(tmp_path):
             proc.kill()
             proc.communicate()
     assert proc.returncode == 0, err
-    assert "swingarm" in json.loads(out)   # stdout: the results as JSON, nothing else
+    printed = json.loads(out)   # stdout: the results as JSON, nothing else
+    assert "swingarm" in printed and printed["bag"] == str(bag)
+    assert printed["stability"] is None       # no motorcycle without all three components
     assert f"motoflex: ROS_DOMAIN_ID {domain} (from ROS_DOMAIN_ID); DDS on loopback" in err
     assert len(node_envs) >= 5, node_envs
     assert {env.get("ROS_DOMAIN_ID") for env in node_envs.values()} == {str(domain)}

@@ -3,7 +3,9 @@
 Starts every node as its own process on the run's ROS domain (ROS_DOMAIN_ID if set and free,
 else a free one) with DDS on loopback (MOTOFLEX_DDS=network for a real bench), waits until
 all are up, runs the campaign of each component, shows progress, prints the identified values
-against the paper's Table 2, stops every node and leaves the bag in ``--out``
+against the finite-element model's own and the paper's Table 2 and the identified motorcycle's
+stability verdict (:mod:`.campaign_summary`; ``--json``: also the bag and the stability table),
+stops every node and leaves the bag in ``--out``
 (bags/<name>/: rosbag2 MCAP + identification.json, the same file ``motoflex identify --out``
 writes, and provenance.json: command, version, git commit, seed, sensor noise). A node that
 dies, SIGINT or SIGTERM stop the run with a message naming what happened.
@@ -16,7 +18,7 @@ from pathlib import Path
 
 from motoflex_ros.cli.inputs import namespace_argument, noise_argument, seed_argument
 from motoflex_ros.cli.options import add_component_option, components_of
-from motoflex_ros.cli.output import atomic_write_text, emit_json, print_table
+from motoflex_ros.cli.output import atomic_write_text, emit_json
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 
 __all__ = ["register", "run"]
@@ -52,7 +54,18 @@ def register(subparsers):
 
 def run(args):
     """Run the graph; print the table (or JSON); returns the exit code."""
-    from motoflex_ros.launcher.campaign import RESULT_FILE, VEHICLE_VARIANT, run_campaign_graph
+    from motoflex_ros.cli.campaign_summary import (
+        fe_static_k,
+        json_output,
+        stiffness_table,
+        vehicle_table,
+    )
+    from motoflex_ros.launcher.campaign import (
+        RESULT_FILE,
+        VEHICLE_COMPONENTS,
+        VEHICLE_VARIANT,
+        run_campaign_graph,
+    )
     from motoflex_ros.launcher.provenance import write_provenance
     from motoflex_ros.launcher.status import run_status
     from motoflex_ros.record.mcap_bag import bag_info
@@ -73,13 +86,13 @@ def run(args):
         timings = {"graph": outcome.wall_s}
         written = _recording_and_report(outcome.bag, args.report, timings, progress=True)
     if args.json:
-        emit_json(outcome.results)
+        emit_json(json_output(outcome, VEHICLE_VARIANT, VEHICLE_COMPONENTS))
         return 0
     info = bag_info(outcome.bag)
-    _table(outcome.results)
+    stiffness_table(outcome.results, fe_static_k(components))
     if outcome.vehicle:
         print(f"\nlumped '{VEHICLE_VARIANT}' motorcycle of the identified values:")
-        _vehicle_table(outcome.vehicle)
+        vehicle_table(outcome.vehicle)
     print(f"\nbag: {outcome.bag} ({info.message_count} messages, {len(info.topics)} topics); "
           f"results: {outcome.result_file} (ROS_DOMAIN_ID {outcome.domain_id})")
     for path in written:
@@ -113,39 +126,15 @@ def _recording_and_report(bag, mode, timings, progress):
     written.insert(0, timings_file)
     if mode != "none":
         from motoflex_ros.report.build import build_report
-        report, _ = build_report(Path(bag), compute=mode == "full", progress=progress)
+        report, _ = build_report(Path(bag), compute=mode == "full", progress=progress,
+                                 outcome=_graph_outcome())
         written.append(report)
     return written
 
 
-def _table(results):
-    from motoflex_ros.structures.published import paper_table2_stiffness
-    paper = paper_table2_stiffness()
-    rows = []
-    for name, comp in results.items():
-        ref = paper.get(name, {})
-        for key, value in (("k", comp["static"]["k"]), ("k_t", comp["k_t"]),
-                           ("k_b", comp["k_b"])):
-            target = ref.get(key)
-            if value is None:  # eq. (12) split not identifiable (see split_problem)
-                rows.append([name, key, "n/a", f"{target:.4g}" if target else "", ""])
-                continue
-            dev = f"{100.0 * (value / target - 1.0):+.1f} %" if target else ""
-            rows.append([name, key, f"{value:.4g}", f"{target:.4g}" if target else "", dev])
-    print_table(["component", "stiffness", "identified [N m/rad]", "paper Table 2", "deviation"],
-                rows)
-
-
-def _vehicle_table(modes, speeds_kmh=(60.0, 100.0, 150.0, 200.0)):
-    rows = []
-    for name in ("weave", "wobble"):
-        mode = modes.get(name)
-        if not mode:
-            continue
-        for v in speeds_kmh:
-            k = min(range(len(mode["speeds_kmh"])), key=lambda i: abs(mode["speeds_kmh"][i] - v))
-            freq, real = mode["frequency_hz"][k], mode["real"][k]
-            rows.append([name, f"{mode['speeds_kmh'][k]:.0f}",
-                         "-" if freq is None else f"{freq:.3f}",
-                         "-" if real is None else f"{real:.3f}"])
-    print_table(["mode", "speed [km/h]", "frequency [Hz]", "real part [1/s]"], rows)
+def _graph_outcome():
+    """The run's outcome as the report states it: the report is the last result written
+    before status.json ("complete"); if it cannot be written the run fails and loses it."""
+    return {"status": "complete", "reason": None,
+            "time_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+            "source": "motoflex campaign: every node finished; status.json follows this report"}

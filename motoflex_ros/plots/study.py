@@ -60,46 +60,61 @@ def plot_pearson_bars(pearson, path, modes=("weave", "wobble"), ranges=("low", "
     return save_png(pearson_bars_figure(pearson, modes, ranges), path)
 
 
+BAR_PITCH_IN = 0.14
+"""Height of one horizontal bar of Fig. 8 with its gap [in]: room for a value label of
+:data:`BAR_LABEL_PT` beside it."""
+BAR_LABEL_PT = 7.5
+"""Size of the value written beside each bar [pt]: 10.4 px at the report's 100 dpi."""
+
+
 def _label_bars(ax, bars):
     for bar in bars:
-        value = bar.get_height()
-        ax.annotate(f"{value:.2g}", (bar.get_x() + bar.get_width() / 2, max(value, FLOOR_PCT)),
-                    xytext=(0, 2), textcoords="offset points", ha="center", va="bottom",
-                    rotation=90, fontsize=6)
+        value = bar.get_width()
+        ax.annotate(f"{value:.2g}", (max(value, FLOOR_PCT), bar.get_y() + bar.get_height() / 2),
+                    xytext=(2, 0), textcoords="offset points", ha="left", va="center",
+                    fontsize=BAR_LABEL_PT)
 
 
 def accuracy_bars_figure(errors):
-    """Fig. 8: e_RMS% (eq. 18) of each lumped variant, per case (frame, ..., all), on a log
-    axis (errors from 0.01 % to 100 % side by side) with each bar's value written on it.
+    """Fig. 8: e_RMS% (eq. 18) of each lumped variant, per case (frame, ..., all), as
+    horizontal bars on a log axis (errors from 0.01 % to 100 % side by side) with each bar's
+    value written beside it, horizontally.
 
     ``errors`` is {case: {variant: {"weave_f": %, "weave_re": %, "wobble_f": %,
-    "wobble_re": %}}} (the JSON of ``motoflex study accuracy``); returns the matplotlib Figure.
+    "wobble_re": %}}} (the JSON of ``motoflex study accuracy``); every variant of the JSON is
+    drawn, in its order; returns the matplotlib Figure.
     """
     cases = list(errors)
     cols = min(len(cases), 2)
     rows = -(-len(cases) // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(10, 3.6 * rows), sharey=True, squeeze=False,
-                             layout="constrained")
+    variants = list(errors[cases[0]])
+    quantities = list(errors[cases[0]][variants[0]])
+    panel_in = BAR_PITCH_IN * len(variants) * len(quantities) / 0.8 + 0.6
+    fig, axes = plt.subplots(rows, cols, figsize=(10.5, panel_in * rows + 0.9), sharey=True,
+                             sharex=True, squeeze=False, layout="constrained")
+    peak = max(v for case in errors.values() for values in case.values()
+               for v in values.values())
+    width = 0.8 / len(variants)
+    y = np.arange(len(quantities))[::-1]
     for ax, case in zip(axes.flat, cases):
-        variants = errors[case]
-        quantities = list(next(iter(variants.values())))
-        series = {VARIANT_LABELS.get(v, v): [max(values[q], 0.0) for q in quantities]
-                  for v, values in variants.items()}
-        for bars in _grouped_bars(ax, [QUANTITY_LABELS.get(q, q) for q in quantities], series,
-                                  zero_line=False):
+        for i, variant in enumerate(variants):
+            values = [max(errors[case][variant][q], 0.0) for q in quantities]
+            bars = ax.barh(y - (i - (len(variants) - 1) / 2) * width, values, width,
+                           label=VARIANT_LABELS.get(variant, variant))
             _label_bars(ax, bars)
-        ax.tick_params(axis="x", labelsize=8)
-        ax.set_yscale("log")
-        ax.set_ylim(FLOOR_PCT, CEILING_PCT)
-        ax.grid(axis="y", alpha=0.3, which="both")
-        ax.set_title(case.replace("_", " "))
+        ax.set_yticks(y, [QUANTITY_LABELS.get(q, q) for q in quantities])
+        ax.set_xscale("log")
+        ax.set_xlim(FLOOR_PCT, max(CEILING_PCT, 30.0 * peak))
+        ax.grid(axis="x", alpha=0.3, which="major")
+        ax.set_title(case.replace("_", " ") + (" (all three flexible)" if case == "all" else
+                                               " flexible"))
     for ax in axes.flat[len(cases):]:
         ax.set_visible(False)
-    for ax in axes[:, 0]:
-        ax.set_ylabel(r"$e_{RMS}$ [%] (log scale)")
+    for ax in axes[-1, :]:
+        ax.set_xlabel(r"$e_{RMS}$ [%] (log scale)")
     handles, labels = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside lower center", ncols=min(len(labels), 4),
-               fontsize=8)
+    fig.legend(handles, labels, loc="outside upper center", ncols=min(len(labels), 4),
+               fontsize=9)
     return fig
 
 

@@ -182,15 +182,22 @@ def _number(text):
 
 
 def _log_identification(rec, samples, t0, known, draw_axes):
+    tables = defaultdict(dict)
     for t_ns, msg in samples:
         for status in msg.status:
             component, test = _status_key(status.name, known)
             values = {kv.key: _number(kv.value) for kv in status.values}
             values = {k: v for k, v in values.items() if v is not None}
+            tables[component][test] = values
             rl.log_identification(rec, component, test, values, (t_ns - t0) * 1e-9)
             model = _model(component) if component in known and draw_axes else None
             if model and test in rl.AXIS_COLORS and {"l", "beta"} <= values.keys():
                 rl.log_axis(rec, component, test, values["l"], values["beta"], model[0].q0)
+    for component, tests in tables.items():
+        split = {k: v for values in tests.values() for k, v in values.items()
+                 if k in ("k_t", "k_b")}
+        rl.log_identification_table(rec, component, {
+            t: v for t, v in tests.items() if t in ("static", "torsion", "bending")}, split)
 
 
 def _read_json(folder, *names):
@@ -229,6 +236,9 @@ def _log_identified_axes(rec, identify, sim_time_s, log_values):
                               [s["l"] for s in sweep], [s["beta"] for s in sweep], q0)
         split = {k: result[k] for k in ("k_t", "k_b") if k in result}
         rl.log_identification(rec, component, "decomposition", split, sim_time_s)
+        rl.log_identification_table(rec, component, {
+            t: result[t] for t in ("static", "torsion", "bending") if isinstance(
+                result.get(t), dict)}, split)
 
 
 def _log_run_files(rec, folder, identify, end_time_s, log_values, with_eig):
@@ -312,16 +322,19 @@ def _log_all(rec, bar, grouped, bench, t0, info, identify, motorcycle):
         _log_identification(rec, grouped["/identification/results"], t0, set(bench),
                             draw_axes=identify is None)
         converted.append("/identification/results")
-    vehicle_topics, bag_axes = log_vehicle_topics(rec, grouped, info, t0)
+    model = motorcycle[0].model if motorcycle is not None else None
+    vehicle_topics, bag_axes = log_vehicle_topics(rec, grouped, info, t0, model)
     converted += vehicle_topics
     converted += _log_run_files(rec, info.path, identify, info.duration_ns * 1e-9,
                                 log_values="/identification/results" not in grouped,
                                 with_eig=EIG_TOPIC not in vehicle_topics)
     _step(bar, "vehicle model")
     if motorcycle is not None:
+        span = max((t for samples in grouped.values() for t, _ in samples if t is not None),
+                   default=t0) - t0
         converted += log_vehicle_model(rec, motorcycle,
                                         road_test="/vehicle/bodies" not in grouped,
-                                        joint_axes=bag_axes == 0)
+                                        joint_axes=bag_axes == 0, sim_span_s=span * 1e-9)
     return converted
 
 

@@ -18,6 +18,7 @@ import rerun as rr
 from scipy.spatial.transform import Rotation
 
 from motoflex_ros.record import rerun_vehicle as rv
+from motoflex_ros.record.rerun_motorcycle import posed_body_geometry
 from motoflex_ros.units import kmh_to_ms
 from motoflex_ros.vehicle.variants import variant_label
 
@@ -44,8 +45,10 @@ def quat(q):
     return [q.x, q.y, q.z, q.w]
 
 
-def _log_road_test(rec, grouped, t0):
-    """Joint coordinates and body poses of the bag's road test over ``sim_time``."""
+def _log_road_test(rec, grouped, t0, model=None):
+    """Joint coordinates and body poses of the bag's road test over ``sim_time``; the bodies
+    drawn with the geometry of ``model`` (the motorcycle the recording draws) where it has
+    them, else as small boxes."""
     joints = grouped.get("/vehicle/joint_states", [])
     if joints:
         names = list(joints[0][1].name)
@@ -54,8 +57,13 @@ def _log_road_test(rec, grouped, t0):
     bodies = grouped.get("/vehicle/bodies", [])
     if bodies:
         names = body_names(grouped, len(bodies[0][1].poses))
+        geometry = {} if model is None else posed_body_geometry(model, names)
+        for name in geometry:
+            for k, part in enumerate(geometry[name]):
+                rec.log(f"/vehicle/road_test/{name}/shape/{k}", part, static=True)
         rv.log_body_shapes(rec, "/vehicle/road_test",
-                           [rv.BodyShape(n, "box", (0.15, 0.1, 0.1)) for n in names])
+                           [rv.BodyShape(n, "box", (0.15, 0.1, 0.1)) for n in names
+                            if n not in geometry])
         rv.log_body_poses(rec, "/vehicle/road_test", names, times_s(bodies, t0),
                           [[vec(p.position) for p in m.poses] for _, m in bodies],
                           [[quat(p.orientation) for p in m.poses] for _, m in bodies])
@@ -179,9 +187,10 @@ def _log_bag_eigenvalues(rec, samples):
     return True
 
 
-def log_vehicle_topics(rec, grouped, info, t0):
-    """Road test, joint-axis markers and eigenvalues of the bag; returns (topics, axes drawn)."""
-    _log_road_test(rec, grouped, t0)
+def log_vehicle_topics(rec, grouped, info, t0, model=None):
+    """Road test (drawn with ``model``'s geometry), joint-axis markers and eigenvalues of the
+    bag; returns (topics, axes drawn)."""
+    _log_road_test(rec, grouped, t0, model)
     converted = [t for t in ("/vehicle/joint_states", "/vehicle/bodies") if t in grouped]
     axes = 0
     for topic in (t.name for t in info.topics if t.type == MARKER_TYPE):
@@ -192,7 +201,7 @@ def log_vehicle_topics(rec, grouped, info, t0):
     return converted, axes
 
 
-def log_vehicle_model(rec, motorcycle, road_test, joint_axes):
+def log_vehicle_model(rec, motorcycle, road_test, joint_axes, sim_span_s=None):
     """The motorcycle from the vehicle engine: ``motorcycle`` = (MotorcycleMotion,
     description) computed by the caller (:mod:`motoflex_ros.vehicle.animation`); without the
     road test or the joint axes when the bag has them."""
@@ -201,6 +210,6 @@ def log_vehicle_model(rec, motorcycle, road_test, joint_axes):
     from motoflex_ros.record.rerun_motorcycle import log_motorcycle
     motion, description = motorcycle
     log_motorcycle(rec, motion if road_test else replace(motion, road=None),
-                   joint_axes=joint_axes)
+                   joint_axes=joint_axes, sim_span_s=sim_span_s)
     rec.log("/vehicle/model", rr.TextDocument(f"Motorcycle: {description}."), static=True)
     return [f"vehicle model: {description}"]

@@ -19,10 +19,14 @@ path                                       content
 /bench/<c>/load/end_displacement           u_x, u_y, u_z of the loaded end [m] over time
 /bench/<c>/axes/<test>                     deformation axis of a test (LineStrips3D, static)
 /bench/<c>/axes/<test>/joint               its revolute joint (Points3D, static)
+/bench/<c>/axes/<test>/label               '<test> axis' at one end of the strip (static)
+/bench/<c>/name                            the component's name above it (static)
 /bench/<c>/axes/sweep                      axes of the frequency sweep (one strip per step)
 /identification/<c>/<test>/<name>          identified value (Scalars, drawn as points) at the
                                            time it is known; its quantity and unit are
                                            :func:`quantity_of` and :data:`IDENTIFIED_QUANTITIES`
+/identification/<c>/table                  the identified values as a table (TextDocument,
+                                           markdown, static; beta in degrees)
 =========================================  ==================================================
 
 Frames: the bench entities are in the component frame (clamp O at the origin, x forward, z
@@ -40,7 +44,8 @@ from motoflex_ros.report.geometry import axis_from_l_beta, axis_segment
 __all__ = ["TIMELINE", "RunRecording", "log_component_frame",
            "log_structure", "log_structure_model", "log_load", "log_axis", "log_sweep_axes",
            "log_identification", "exaggeration_factor",
-           "subsample_indices", "MAX_SHAPE_FRAMES", "IDENTIFIED_QUANTITIES", "quantity_of"]
+           "subsample_indices", "MAX_SHAPE_FRAMES", "IDENTIFIED_QUANTITIES", "quantity_of",
+           "identification_markdown", "log_identification_table", "TABLE_COLUMNS"]
 
 TIMELINE = "sim_time"
 MAX_SHAPE_FRAMES = 400      # deformed shapes logged per component (evenly subsampled)
@@ -166,6 +171,11 @@ def log_structure_model(rec, component, node_xyz, elements, clamp_xyz, load_xyz,
                                           radii=0.015), static=True)
     rec.log(f"{base}/load_point", rr.Points3D(np.atleast_2d(load_xyz), colors=LOAD_COLOR,
                                               radii=0.015), static=True)
+    nodes = np.asarray(node_xyz, float)
+    top = [nodes[:, 0].mean(), nodes[:, 1].mean(), nodes[:, 2].max() + 0.12]
+    rec.log(f"/bench/{component}/name", rr.Points3D([top], colors=(40, 40, 40), radii=0.002,
+                                                     labels=[component.replace("_", " ")],
+                                                     show_labels=True), static=True)
     origin = f"{source}, " if source else ""
     rec.log(f"{base}/exaggeration", rr.TextDocument(
         f"Deformed shape of {component}: {origin}node displacements exaggerated x{factor:g} "
@@ -260,10 +270,21 @@ def log_axis(rec, component, test, l, beta, q0, half_length=None):
     axis = axis_from_l_beta(l, beta, q0)
     color = AXIS_COLORS.get(test, (200, 200, 200))
     path = f"/bench/{component}/axes/{test}"
-    rec.log(path, rr.LineStrips3D([axis_segment(l, beta, q0, half_length)], colors=color,
-                                  radii=0.004, labels=[test]), static=True)
+    segment = axis_segment(l, beta, q0, half_length)
+    rec.log(path, rr.LineStrips3D([segment], colors=color, radii=0.004), static=True)
+    along, lift = AXIS_LABEL_PLACES.get(test, (1.0, 0.0))
+    place = (segment[0] + segment[1]) / 2 + along * (segment[1] - segment[0]) / 2
+    rec.log(f"{path}/label", rr.Points3D([place + [0.0, 0.0, lift]], colors=color,
+                                         radii=0.003, labels=[f"{test} axis"],
+                                         show_labels=True), static=True)
     rec.log(f"{path}/joint", rr.Points3D([[axis.x_j, 0.0, axis.z_j]], colors=color,
                                          radii=0.02), static=True)
+
+
+AXIS_LABEL_PLACES = {"static": (1.0, 0.08), "torsion": (-1.0, 0.0), "bending": (0.45, -0.08)}
+"""Where an axis' label sits: along its strip from the joint (-1 and 1: its ends) and lifted
+by [m] (z), so the three labels of a component never share a spot (they met at the
+joints, and the static and bending axes can be almost parallel)."""
 
 
 def log_sweep_axes(rec, component, frequencies_hz, ls, betas, q0, half_length=None):
@@ -312,3 +333,46 @@ def log_identification(rec, component, test, values, time_s):
         rec.log(path, rr.Scalars(float(value)))
         logged.append(name)
     return logged
+
+
+TABLE_COLUMNS = (("l", "l [m]", 1.0, ".4f"), ("beta", "\u03b2 [deg]", 180.0 / np.pi, ".2f"),
+                 ("b", "b [m]", 1.0, ".4f"), ("k", "k [N m/rad]", 1.0, ".4g"),
+                 ("c", "c [N m s/rad]", 1.0, ".4g"), ("J", "J [kg m\u00b2]", 1.0, ".4g"),
+                 ("f_hz", "f [Hz]", 1.0, ".4g"))
+"""Columns of the identification table: key, heading, factor from SI, format."""
+
+
+def _table_cell(values, key, factor, spec, assumed):
+    value = values.get(key)
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
+        return "-"
+    if not np.isfinite(value):
+        return "-"
+    return format(value * factor, spec) + (" (assumed)" if assumed else "")
+
+
+def identification_markdown(component, tests, split=None):
+    """The identified values of ``component`` as a markdown table: one row per test of
+    ``tests`` ({test: {name: SI value}}), beta in degrees, the static test's c marked assumed
+    (c = 0.001 s x k, Passigato et al. 2023 Sect. 5.2.4), then k_t and k_b (eq. 12) of
+    ``split``."""
+    lines = ["| test | " + " | ".join(h for _, h, _, _ in TABLE_COLUMNS) + " |",
+             "|---|" + "---:|" * len(TABLE_COLUMNS)]
+    for test, values in tests.items():
+        lines.append(f"| {test} | " + " | ".join(
+            _table_cell(values, key, factor, spec, test == "static" and key == "c")
+            for key, _, factor, spec in TABLE_COLUMNS) + " |")
+    split = {k: v for k, v in (split or {}).items() if isinstance(v, (int, float))}
+    if split:
+        lines += ["", "Split of k (eq. 12): " + ", ".join(
+            f"{name} = {value:.4g}" for name, value in split.items()) + " N m/rad."]
+    lines += ["", "l, \u03b2, b: the axis (eqs. 5-7); the static test's c is assumed "
+              "(0.001 s x k), not identified."]
+    return "\n".join(lines)
+
+
+def log_identification_table(rec, component, tests, split=None):
+    """/identification/<component>/table: :func:`identification_markdown` (static)."""
+    rec.log(f"/identification/{component}/table", rr.TextDocument(
+        identification_markdown(component, tests, split), media_type=rr.MediaType.MARKDOWN),
+        static=True)

@@ -17,6 +17,9 @@ path                                        content
 /vehicle/eigenvalues/<mode>/real_part       Re(lambda) [1/s] against ``speed_kmh``
 /vehicle/eigenvalues/<mode>/frequency_hz    Im(lambda)/(2 pi) [Hz] against ``speed_kmh``
 /vehicle/eigenvalues/all/real_part, ...     every eigenvalue (points) against ``speed_kmh``
+/vehicle/stability/<mode>/real_part         Re(lambda) [1/s] as bars over speed [km/h],
+                                            static (any timeline shows it)
+/vehicle/stability/<mode>/frequency_hz      frequency [Hz] as bars over speed [km/h]
 ==========================================  ==================================================
 """
 from dataclasses import dataclass
@@ -30,7 +33,8 @@ from motoflex_ros.units import ms_to_kmh
 
 __all__ = ["BodyShape", "log_body_shapes", "log_body_poses", "log_joint_series",
            "log_joint_axis", "log_eigenvalues", "log_mode_animation", "mode_frames",
-           "SPEED_TIMELINE", "MODE_TIMELINE", "speed_kmh_index"]
+           "SPEED_TIMELINE", "MODE_TIMELINE", "speed_kmh_index", "log_speed_bars",
+           "STABILITY_QUANTITIES", "MODE_COLORS"]
 
 SPEED_TIMELINE = "speed_kmh"
 MODE_TIMELINE = "mode_frame"
@@ -109,7 +113,8 @@ def log_joint_axis(rec, name, point, direction, half_length=0.25, color=(30, 170
     direction = direction / np.linalg.norm(direction)
     strip = [point - half_length * direction, point + half_length * direction]
     path = f"/vehicle/joint_axes/{name}"
-    rec.log(path, rr.LineStrips3D([strip], colors=color, radii=0.006, labels=[name]),
+    rec.log(path, rr.LineStrips3D([strip], colors=color, radii=0.006, labels=[name],
+                               show_labels=False),
             static=True)
     rec.log(f"{path}/joint", rr.Points3D([point], colors=color, radii=0.02), static=True)
 
@@ -122,10 +127,11 @@ def speed_kmh_index(speeds_mps):
     return kmh
 
 
-def _speed_series(rec, path, kmh, values, name, points=False):
+def _speed_series(rec, path, kmh, values, name, points=False, color=None):
     values = np.asarray(values, float).reshape(len(kmh), -1)
     style = rr.SeriesPoints(names=[name] * values.shape[1], marker_sizes=[2.0] * values.shape[1]
-                            ) if points else rr.SeriesLines(names=[name])
+                            ) if points else rr.SeriesLines(
+                                names=[name], colors=None if color is None else [color])
     rec.log(path, style, static=True)
     rec.send_columns(path, indexes=[rr.TimeColumn(SPEED_TIMELINE, sequence=kmh)],
                      columns=rr.Scalars.columns(scalars=values))
@@ -148,11 +154,30 @@ def log_eigenvalues(rec, speeds_mps, eigenvalues, tracked):
                       oscillating.imag / (2 * np.pi), "f [Hz]", points=True)
     for mode, values in tracked.items():
         values = np.asarray(values, complex)
+        color = MODE_COLORS.get(mode)
         _speed_series(rec, f"/vehicle/eigenvalues/{mode}/real_part", kmh, values.real,
-                      f"{mode} Re(lambda) [1/s]")
+                      f"{mode} Re(lambda) [1/s]", color=color)
         _speed_series(rec, f"/vehicle/eigenvalues/{mode}/frequency_hz", kmh,
-                      values.imag / (2 * np.pi), f"{mode} f [Hz]")
+                      values.imag / (2 * np.pi), f"{mode} f [Hz]", color=color)
+        log_speed_bars(rec, mode, kmh, values)
     return len(kmh)
+
+
+STABILITY_QUANTITIES = {"real_part": "Re [1/s]", "frequency_hz": "f [Hz]"}
+"""The bar charts of /vehicle/stability/<mode>/<quantity> and how their views name them."""
+
+
+def log_speed_bars(rec, mode, kmh, values):
+    """A mode's real part [1/s] and frequency [Hz] as static bar charts over speed [km/h]
+    (the bars' abscissa): visible on whatever timeline the viewer shows, unlike a time series
+    on ``speed_kmh``. A speed where the mode was not found has no bar (0)."""
+    values = np.asarray(values, complex)
+    color = MODE_COLORS.get(mode, (120, 120, 120))
+    for quantity, numbers in (("real_part", values.real),
+                              ("frequency_hz", values.imag / (2 * np.pi))):
+        rec.log(f"/vehicle/stability/{mode}/{quantity}",
+                rr.BarChart(np.nan_to_num(numbers, nan=0.0), abscissa=np.asarray(kmh, float),
+                            color=color), static=True)
 
 
 def mode_frames(translation_shape, rotation_shape, frames_per_cycle=24, cycles=2):

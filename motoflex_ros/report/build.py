@@ -12,6 +12,7 @@ from motoflex_ros.report import tables
 from motoflex_ros.report.html import Figure, Missing, Note, Section, render
 from motoflex_ros.report.provenance import provenance_table
 from motoflex_ros.report.sources import FIG9_VARIANTS, load_run_data
+from motoflex_ros.report.summary import summary_parts
 from motoflex_ros.structures.published import COMPONENTS
 from motoflex_ros.vehicle.variants import variant_label
 
@@ -136,20 +137,38 @@ def _section(run_data, spec):
         return Section(section_id, title, (Missing(title, missing or f"incomplete data ({exc})"),))
 
 
-def build_report(folder, compute=True, progress=True, warning=None):
+def _sources_table(run_data):
+    """Where each JSON source of the report came from (saved, or the verb run now)."""
+    rows = tuple((tables.Cell(name), tables.Cell(origin))
+                 for name, origin in sorted(run_data.origins.items()))
+    return tables.Table("sources", "Data sources of this report", ("source", "origin"), rows)
+
+
+def build_report(folder, compute=True, progress=True, warning=None, outcome=None):
     """Write ``folder``/report.html (``warning``, e.g. an incomplete run, at the top); returns
-    (path, sections)."""
+    (path, sections).
+
+    The summary comes first, then the sections of :data:`SECTIONS`, then the appendices
+    (provenance, data sources, timings). ``outcome``: the run's status dict when the caller
+    knows it before status.json exists (``motoflex campaign`` writes the report, then the
+    status; a report it cannot finish fails the run and is removed), with a ``source``.
+    """
     run_data = load_run_data(folder, compute=compute, progress=progress)
-    sections = [Section("provenance", "Provenance", (provenance_table(folder),))]
+    summary = Section("summary", "Summary",
+                      tuple(summary_parts(folder, run_data.data, run_data.files, outcome)))
+    sections = [summary]
     bar = progress_bar(SECTIONS, desc="report sections", unit="section", enabled=progress)
     for spec in bar:
         bar.set_postfix_str(spec[0])
         start = time.perf_counter()
         sections.append(_section(run_data, spec))
         run_data.timings.append((f"section: {spec[0]}", time.perf_counter() - start))
-    sections.append(Section("timings", "Timings", (tables.timings_table(run_data),)))
-    sources = sorted(run_data.origins.items())
-    html = render(f"motoflex_ros run report: {folder.name}", sections, sources, warning)
+    sections += [Section("provenance", "Appendix A: provenance",
+                         (provenance_table(folder, outcome),)),
+                 Section("sources", "Appendix B: data sources", (_sources_table(run_data),)),
+                 Section("timings", "Appendix C: timings (for the developers)",
+                         (tables.timings_table(run_data),))]
+    html = render(f"motoflex_ros run report: {folder.name}", sections, warning)
     path = folder / REPORT_FILE
     atomic_write_text(path, html)
     return path, sections

@@ -22,6 +22,8 @@ LOAD = "#ff8c00"
 MODE_COLORS = {"torsion": "#2ca02c", "bending": "#d62728"}
 MODE_STYLES = {"torsion": "-", "bending": "--"}
 DPI = 100
+MODE_PANEL_WIDTH_IN = 8.8   # the two views of a mode figure together [in]
+MODE_PANEL_MAX_IN = 4.0     # their common height at most [in]
 
 
 def png_of(fig):
@@ -56,15 +58,22 @@ def modes_plot(name):
     xyz, elements = component.node_xyz, component.elements
     modes = [m for m in (mode_drawing(component, reduced, label)
                          for label in MODE_COLORS) if m is not None]
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.8), layout="constrained")
-    for ax, dims, title in zip(axes, ((0, 2), (0, 1)), ("side (x-z)", "top (x-y)")):
+    views = ((0, 2), (0, 1))
+    drawn = np.vstack([xyz, *(m.xyz for m in modes)])
+    spans = [np.ptp(drawn[:, list(d)], axis=0) * 1.1 + 0.02 for d in views]
+    # each view as wide as its data at one common height: no blank band around either plot
+    height = min(MODE_PANEL_MAX_IN, MODE_PANEL_WIDTH_IN / sum(sx / sy for sx, sy in spans))
+    fig, axes = plt.subplots(
+        1, 2, figsize=(MODE_PANEL_WIDTH_IN + 1.8, height + 1.5), layout="constrained",
+        gridspec_kw={"width_ratios": [sx / sy for sx, sy in spans]})
+    for ax, dims, title in zip(axes, views, ("side (x-z)", "top (x-y)")):
         _draw_beams(ax, xyz, elements, dims, color="0.6", lw=1.5)
         for mode in modes:
             _draw_beams(ax, mode.xyz, elements, dims, color=MODE_COLORS[mode.label], lw=1.0,
                         ls=MODE_STYLES[mode.label])
         ax.plot(*component.clamp_xyz[:, dims].T, "o", color=CLAMP)
         ax.plot(*component.q0[list(dims)], "o", color=LOAD)
-        ax.set_aspect("equal")
+        ax.set_aspect("equal", adjustable="datalim")
         ax.set_title(f"{name}: {title}")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("z [m]" if dims[1] == 2 else "y [m]")
@@ -72,7 +81,7 @@ def modes_plot(name):
     handles += [matplotlib.lines.Line2D([], [], color=MODE_COLORS[m.label],
                                         ls=MODE_STYLES[m.label], label=m.legend())
                 for m in modes]
-    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8)
+    fig.legend(handles=handles, loc="outside upper center", ncols=len(handles), fontsize=9)
     return fig
 
 

@@ -19,13 +19,17 @@ CSS = f"""
 body {{ font-family: sans-serif; max-width: {CONTENT_WIDTH_PX}px; margin: 2em auto; color: #222; }}
 table {{ border-collapse: collapse; margin: 0.5em 0 1.5em; font-size: 0.9em; }}
 th, td {{ border: 1px solid #ccc; padding: 3px 8px; text-align: right; }}
-th:first-child, td:first-child {{ text-align: left; }}
+th:first-child, td:first-child {{ text-align: left; }} td {{ white-space: nowrap; }}
 td[data-kind=paper] {{ color: #555; }} td[data-kind=diff] {{ font-style: italic; }}
 td.flag {{ background: #fdd; color: #a00; font-weight: bold; }}
 td[data-kind=missing] {{ color: #a33; }} #provenance td {{ text-align: left; }}
 .na {{ color: #a33; }} figure {{ margin: 1em 0; }} img {{ max-width: 100%; }}
 .sources {{ font-size: 0.85em; color: #555; }} .note {{ font-size: 0.9em; }}
 .warning {{ border: 2px solid #a33; background: #fee; padding: 0.5em 1em; font-weight: bold; }}
+#section-summary {{ border: 1px solid #bbb; background: #f7f9fc; padding: 0 1em; }}
+#summary-verdict {{ font-weight: bold; font-size: 1em; }}
+nav {{ margin: 1em 0; font-size: 0.9em; line-height: 1.6; }}
+#sources td {{ text-align: left; }}
 """
 
 
@@ -112,15 +116,23 @@ def section_id(name):
     return f"section-{name}"
 
 
-def render(title, sections, sources, warning=None):
-    """The whole HTML document; ``sources`` lists where each JSON came from; ``warning`` (e.g.
-    an incomplete run) comes first, right under the title."""
-    items = "".join(f"<li>{html.escape(name)}: {html.escape(origin)}</li>"
-                    for name, origin in sources)
-    body = "".join(f'<section id="{section_id(s.id)}"><h2>{html.escape(s.title)}</h2>'
-                   + "".join(_part(p) for p in s.parts) + "</section>" for s in sections)
+def _contents(sections):
+    """A one-line table of contents: links to every section after the first."""
+    links = " \u00b7 ".join(f'<a href="#{section_id(s.id)}">{html.escape(s.title)}</a>'
+                            for s in sections[1:])
+    return f'<nav id="contents"><b>Contents:</b> {links}</nav>' if links else ""
+
+
+def render(title, sections, warning=None):
+    """The whole HTML document: ``warning`` (e.g. an incomplete run) right under the title,
+    then the first section (the summary), a table of contents and the other sections."""
+    def one(s):
+        return (f'<section id="{section_id(s.id)}"><h2>{html.escape(s.title)}</h2>'
+                + "".join(_part(p) for p in s.parts) + "</section>")
     notice = (f'<p class="warning" id="warning">{html.escape(warning)}</p>' if warning else "")
+    body = "".join(one(s) for s in sections[:1]) + _contents(sections) + "".join(
+        one(s) for s in sections[1:])
     return (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>'
             f"{html.escape(title)}</title><style>{CSS}</style></head><body><h1>"
-            f'{html.escape(title)}</h1>{notice}<ul class="sources">{items}</ul>{body}'
+            f'{html.escape(title)}</h1>{notice}{body}'
             "</body></html>\n")

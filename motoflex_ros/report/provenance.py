@@ -1,6 +1,7 @@
 """The report's provenance: what the run folder records about how the run was made.
 
-Read from status.json (how the run ended), the bag's metadata.yaml (its time span, message
+Read from status.json (how the run ended; or the outcome the campaign hands over, since it
+writes the report before status.json), the bag's metadata.yaml (its time span, message
 count and ROS distribution) and provenance.json (command, package version, git commit, seed,
 sensor noise, written by ``motoflex campaign``). A field the run does not record is shown as
 "not recorded" with the reason, never filled in; what built the report itself (version,
@@ -42,7 +43,7 @@ def _bag_rows(folder):
         return [(f, None, why) for f in fields]
     try:
         start_ns = info["starting_time"]["nanoseconds_since_epoch"]
-        values = (utc_stamp(start_ns / 1e9), info["duration"]["nanoseconds"] / 1e9,
+        values = (utc_stamp(start_ns / 1e9), f"{info['duration']['nanoseconds'] / 1e9:.2f}",
                   int(info["message_count"]), _plain(info.get("ros_distro")))
     except (KeyError, TypeError, ValueError, OverflowError, OSError) as exc:
         why = f"{METADATA_FILE} unreadable (no valid {exc})" if isinstance(exc, KeyError) \
@@ -51,16 +52,16 @@ def _bag_rows(folder):
     return list(zip(fields, values, [METADATA_FILE] * 4))
 
 
-def _status_rows(folder):
-    status = read_status(folder)
+def _status_rows(folder, outcome=None):
+    status = outcome if outcome is not None else read_status(folder)
     if status is None:
         why = f"no {STATUS_FILE}"
         return [("run status", None, why), ("run ended (UTC)", None, why)]
     state = status.get("status")
     if status.get("reason"):
         state = f"{state} ({status['reason']})"
-    return [("run status", state, STATUS_FILE),
-            ("run ended (UTC)", status.get("time_utc"), STATUS_FILE)]
+    source = status.get("source", STATUS_FILE)
+    return [("run status", state, source), ("run ended (UTC)", status.get("time_utc"), source)]
 
 
 def _commit_text(commit, dirty, note):
@@ -118,9 +119,13 @@ def _row(field, value, source):
             Cell(source))
 
 
-def provenance_table(folder):
-    """Table 'provenance': field, value ('not recorded' where the run has none) and source."""
-    rows = [*_run_rows(folder), *_status_rows(folder), *_bag_rows(folder), *_report_rows()]
+def provenance_table(folder, outcome=None):
+    """Table 'provenance': field, value ('not recorded' where the run has none) and source.
+
+    ``outcome``: the run's status dict (as status.json holds it, with a ``source``) when the
+    caller knows it before status.json is written (the campaign writes the report first)."""
+    rows = [*_run_rows(folder), *_status_rows(folder, outcome), *_bag_rows(folder),
+            *_report_rows()]
     return Table("provenance", "How this run was made", ("field", "value", "source"),
                  tuple(_row(*r) for r in rows),
                  "From the run folder's provenance.json, status.json and metadata.yaml; "

@@ -19,7 +19,9 @@ from motoflex_ros.structures.published import (
 __all__ = ["Cell", "Table", "components_table", "table1", "table2", "identification_table",
            "whipple_table", "accuracy_table", "anova_table", "pearson_table", "timings_table",
            "percent_difference", "VARIANTS", "QUANTITIES", "INDICES", "FACTORS",
-           "DEVIATION_FLAG_PERCENT", "TIMING_FLOOR_S", "flagged_count", "SYMBOLS_NOTE"]
+           "DEVIATION_FLAG_PERCENT", "TIMING_FLOOR_S", "flagged_count", "SYMBOLS_NOTE",
+           "json_cell",
+           "paper_cell", "diff_cell", "ASSUMED_C_NOTE"]
 
 VARIANTS = ("state_of_the_art", "static", "torsion", "bending", "principal")
 QUANTITIES = ("weave_f", "weave_re", "wobble_f", "wobble_re")
@@ -51,23 +53,24 @@ class Table:
     note: str = ""
 
 
-def _fmt(value):
-    return "-" if value is None or not np.isfinite(value) else f"{value:.4g}"
+def _fmt(value, spec=".4g"):
+    return "-" if value is None or not np.isfinite(value) else format(value, spec)
 
 
-def _json(data, file, *keys):
-    """A number of a JSON source; null (an undefined value: a one-sample interval, a split
-    eq. 12 cannot give) is shown as 'n/a' and carries no value."""
+def json_cell(data, file, *keys, spec=".4g"):
+    """A number of a JSON source shown with the format ``spec``; null (an undefined value: a
+    one-sample interval, a split eq. 12 cannot give) is shown as 'n/a' and carries no
+    value."""
     value = data
     for key in keys:
         value = value[key]
     path = "/".join(map(str, keys))
     if value is None:
         return Cell("n/a", None, "json", file, path)
-    return Cell(_fmt(value), float(value), "json", file, path)
+    return Cell(_fmt(value, spec), float(value), "json", file, path)
 
 
-def _paper(value, path):
+def paper_cell(value, path):
     return Cell(_fmt(value), float(value), "paper", None, path)
 
 
@@ -84,7 +87,7 @@ def percent_difference(ours, paper):
     return (ours - paper) / paper * 100.0
 
 
-def _diff(ours, paper, path):
+def diff_cell(ours, paper, path):
     if ours.value is None:
         return Cell("n/a", None, "diff", None, path)
     value = percent_difference(ours.value, paper.value)
@@ -101,7 +104,7 @@ def flagged_count(table):
 def components_table(components):
     """The components: model size, clamped modes, first torsion/bending frequencies, k."""
     fields = ("dofs", "modes", "f_torsion_hz", "f_bending_hz", "k_static")
-    rows = tuple((Cell(c), *(_json(components, "components.json", c, f) for f in fields))
+    rows = tuple((Cell(c), *(json_cell(components, "components.json", c, f) for f in fields))
                  for c in COMPONENTS if c in components)
     return Table("components", "Components (clamped finite-element models)",
                  ("component", "DOFs", "modes kept", "f torsion [Hz]", "f bending [Hz]",
@@ -114,9 +117,10 @@ def table1(components):
     rows = []
     for c in COMPONENTS:
         for shape in ("torsion", "bending"):
-            ours = _json(components, "components.json", c, f"f_{shape}_hz")
-            ref = _paper(paper[c][shape], f"table1/{c}/{shape}")
-            rows.append((Cell(c), Cell(shape), ours, ref, _diff(ours, ref, f"table1/{c}/{shape}")))
+            ours = json_cell(components, "components.json", c, f"f_{shape}_hz")
+            ref = paper_cell(paper[c][shape], f"table1/{c}/{shape}")
+            rows.append((Cell(c), Cell(shape), ours, ref,
+                         diff_cell(ours, ref, f"table1/{c}/{shape}")))
     return _flag_note(Table("table1", "Table 1: first torsion and bending eigenfrequency",
                             ("component", "mode shape", "ours [Hz]", "paper [Hz]",
                              "difference"), tuple(rows)))
@@ -136,9 +140,9 @@ def table2(identify, file="identify.json"):
     for c in COMPONENTS:
         cells = [Cell(c)]
         for name, keys in (("k", ("static", "k")), ("k_t", ("k_t",)), ("k_b", ("k_b",))):
-            ours = _json(identify, file, c, *keys)
-            ref = _paper(paper[c][name], f"table2/{c}/{name}")
-            cells += [ours, ref, _diff(ours, ref, f"table2/{c}/{name}")]
+            ours = json_cell(identify, file, c, *keys)
+            ref = paper_cell(paper[c][name], f"table2/{c}/{name}")
+            cells += [ours, ref, diff_cell(ours, ref, f"table2/{c}/{name}")]
         rows.append(tuple(cells))
     header = ("component", *(f"{n} {w}" for n in ("k", "k_t", "k_b")
                              for w in ("ours [N m/rad]", "paper [N m/rad]", "difference")))
@@ -153,7 +157,7 @@ def _k_interval(identify, file, *path):
         values = values[key]
     if "k" not in values.get("ci", {}):
         return (Cell("-"), Cell("-"))
-    return tuple(_json(identify, file, *path, "ci", "k", i) for i in (0, 1))
+    return tuple(json_cell(identify, file, *path, "ci", "k", i) for i in (0, 1))
 
 
 def _models(identify, c):
@@ -178,13 +182,29 @@ def identification_table(identify, file="identify.json"):
             for key in path:
                 values = values[key]
             rows.append((Cell(c), Cell(label), *(
-                (_degrees if n == "beta" else _json)(identify, file, *path, n)
-                if n in values else Cell("-") for n in names),
-                *_k_interval(identify, file, *path)))
+                _value_cell(identify, file, *path, n) if n in values else Cell("-")
+                for n in names), *_k_interval(identify, file, *path)))
     return Table("identification", "Identified lumped stiffness models",
                  ("component", "test", "l [m]", "\u03b2 [deg]", "b [m]", "k [N m/rad]",
                   "c [N m s/rad]", "J [kg m^2]", "f [Hz]", "k 95 % low [N m/rad]",
-                  "k 95 % high [N m/rad]"), tuple(rows), SYMBOLS_NOTE)
+                  "k 95 % high [N m/rad]"), tuple(rows), f"{SYMBOLS_NOTE} {ASSUMED_C_NOTE}")
+
+
+ASSUMED_C_NOTE = (
+    "c of the static test is assumed, not identified (marked 'assumed'): c = \u03b3 k with "
+    "\u03b3 = 0.001 s, the paper's choice for static models (Sect. 5.2.4); the harmonic tests' "
+    "c are identified (eqs. 9-11).")
+
+
+def _value_cell(identify, file, *keys):
+    """An identified value's cell (``keys``: its path, the value's name last): beta in
+    degrees, the static test's c marked assumed."""
+    if keys[-1] == "beta":
+        return _degrees(identify, file, *keys)
+    cell = json_cell(identify, file, *keys)
+    if keys[-2:] == ("static", "c") and cell.value is not None:
+        return Cell(f"{cell.text} (assumed)", cell.value, cell.kind, cell.file, cell.path)
+    return cell
 
 
 SYMBOLS_NOTE = (
@@ -200,7 +220,7 @@ SYMBOLS_NOTE = (
 
 def _degrees(data, file, *keys):
     """A JSON angle [rad] shown in degrees; the cell keeps the JSON value and says so."""
-    cell = _json(data, file, *keys)
+    cell = json_cell(data, file, *keys)
     if cell.value is None:
         return cell
     return Cell(f"{np.degrees(cell.value):.2f}", cell.value, "json", file, cell.path,
@@ -223,10 +243,10 @@ def whipple_table(whipple):
             ours = _nearest(whipple["eigenvalues"][i], ref)
             index = [complex(*z) for z in whipple["eigenvalues"][i]].index(ours)
             rows.append((Cell(f"{speed:g}"), Cell(name),
-                         _json(whipple, "whipple.json", "eigenvalues", i, index, 0),
-                         _json(whipple, "whipple.json", "eigenvalues", i, index, 1),
-                         _paper(ref.real, f"whipple/{speed:g}/{name}/re"),
-                         _paper(ref.imag, f"whipple/{speed:g}/{name}/im"),
+                         json_cell(whipple, "whipple.json", "eigenvalues", i, index, 0),
+                         json_cell(whipple, "whipple.json", "eigenvalues", i, index, 1),
+                         paper_cell(ref.real, f"whipple/{speed:g}/{name}/re"),
+                         paper_cell(ref.imag, f"whipple/{speed:g}/{name}/im"),
                          Cell(f"{abs(ours - ref):.2e}", float(abs(ours - ref)), "absdiff")))
     return Table("whipple", "Whipple benchmark check (Meijaard et al. 2007)",
                  ("v [m/s]", "eigenvalue", "ours Re [1/s]", "ours Im [1/s]", "published Re",
@@ -235,12 +255,13 @@ def whipple_table(whipple):
 
 
 def accuracy_table(accuracy):
-    """e_RMS% (eq. 18) per case and lumped variant (the numbers of Fig. 8)."""
+    """e_RMS% (eq. 18) per case and lumped variant: every variant of the JSON, in its order,
+    the same the bars of Fig. 8 show."""
     rows = tuple((Cell(case), Cell(VARIANT_LABELS.get(v, v)),
-                  *(_json(accuracy, "accuracy.json", case, v, q)
+                  *(json_cell(accuracy, "accuracy.json", case, v, q)
                                          for q in QUANTITIES))
                  for case in (*COMPONENTS, "all") if case in accuracy
-                 for v in VARIANTS if v in accuracy[case])
+                 for v in accuracy[case])
     return Table("accuracy", "e_RMS of lumped against flexible models [%] (Fig. 8)",
                  ("case", "variant", *(f"{QUANTITY_LABELS[q]} [%]" for q in QUANTITIES)), rows,
                  "e_RMS (eq. 18): root-mean-square difference over 40-210 km/h of each lumped "
@@ -250,17 +271,17 @@ def accuracy_table(accuracy):
 
 def anova_table(sensitivity):
     """Share of the index variance explained by main effects (ANOVA, Sect. 4.3)."""
-    rows = tuple((Cell(i), _json(sensitivity, "sensitivity.json", "anova_main_share", i))
+    rows = tuple((Cell(i), json_cell(sensitivity, "sensitivity.json", "anova_main_share", i))
                  for i in INDICES)
     return Table("anova", "ANOVA: share of main effects", ("index", "main-effect share"), rows)
 
 
 def pearson_table(sensitivity):
     """Pearson coefficients (eqs. 16-17) per index and stiffness (the numbers of Fig. 10)."""
-    rows = tuple((Cell(i), *(_json(sensitivity, "sensitivity.json", "pearson", i, f)
-                             for f in FACTORS)) for i in INDICES)
+    rows = tuple((Cell(i), *(json_cell(sensitivity, "sensitivity.json", "pearson", i, f,
+                                       spec="+.3f") for f in FACTORS)) for i in INDICES)
     return Table("pearson", "Pearson correlation coefficients (Fig. 10)", ("index", *FACTORS),
-                 rows)
+                 rows, "Three decimals throughout; +1: a stiffer part damps the mode more.")
 
 
 TIMING_FLOOR_S = 0.01
@@ -270,7 +291,7 @@ TIMING_FLOOR_S = 0.01
 def timings_table(run_data):
     """Timings: the campaign's (timings.json) and this report's own steps [s]; the report's
     steps under :data:`TIMING_FLOOR_S` are summed into one row."""
-    rows = [(Cell(f"campaign: {step}"), _json(run_data.campaign_timings, "timings.json", step))
+    rows = [(Cell(f"campaign: {step}"), json_cell(run_data.campaign_timings, "timings.json", step))
             for step, value in run_data.campaign_timings.items()
             if isinstance(value, (int, float))]
     slow = [(step, s) for step, s in run_data.timings if s >= TIMING_FLOOR_S]
