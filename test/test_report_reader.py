@@ -1,13 +1,13 @@
 """The report as a chassis engineer reads it (issue 16, point 7), on the recorded example run.
 
 bags/example is copied to a temporary folder (nothing in bags/ is written) with a
-provenance.json of another command and seed (its own inputs and bag kept), and
-`motoflex report` is run on the copy. The HTML is parsed back: ids unique, provenance equal
-to the run's status.json, metadata.yaml and provenance.json (and 'not recorded' where the run has no record), the
-identified motorcycle named in the stability section, deviations from Table 2 beyond the stated
-threshold flagged, no timing rows of zeros, no figure wider than the page, beta in degrees.
-The figures themselves are checked on their matplotlib objects: distinct axis styles, no text
-overlapping or cut off, every Fig. 8 bar visible, mode shapes scaled as stated.
+provenance.json of another command and seed (its own inputs and bag kept), and `motoflex
+report` is run on the copy. The HTML is parsed back: ids unique, provenance equal to the run's
+status.json, metadata.yaml and provenance.json (and 'not recorded' where the run has no
+record), the identified motorcycle named in the stability section, deviations from Table 2
+beyond the stated threshold flagged, no timing rows of zeros, no figure wider than the page,
+beta in degrees. The figures themselves are checked on their matplotlib objects: distinct axis
+styles, no text overlapping or cut off, every Fig. 8 bar visible, mode shapes scaled as stated.
 """
 import json
 from collections import Counter
