@@ -448,18 +448,6 @@ def wrench_from_cdr(data):
     return ns, values[1]
 
 
-def wrench6_from_cdr(data):
-    """(stamp [ns], (F_x, F_y, F_z [N], M_x, M_y, M_z [N m])) of a serialized
-    geometry_msgs/WrenchStamped."""
-    if data[1] != 1:  # big-endian CDR: take the slow, general path
-        msg = deserialize_message(data, WrenchStamped)
-        f, m = msg.wrench.force, msg.wrench.torque
-        return time_ns(msg.header.stamp), (f.x, f.y, f.z, m.x, m.y, m.z)
-    ns, offset = _header_from_cdr(data)
-    offset += -(offset - 4) % 8
-    return ns, struct.unpack_from("<6d", data, offset)
-
-
 def pose_cdr(ns, frame_id, position, rotation):
     """Serialized :func:`pose_msg` (geometry_msgs/PoseStamped of a position [m] and a rotation
     matrix)."""

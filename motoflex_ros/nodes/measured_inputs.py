@@ -29,7 +29,7 @@ from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from std_msgs.msg import Empty
 
-from motoflex_ros.nodes.conversions import points_from_cdr, wrench6_from_cdr
+from motoflex_ros.nodes.conversions import points_from_cdr, wrench_vector_from_cdr
 from motoflex_ros.nodes.kept_frames import KeptRows
 from motoflex_ros.nodes.params import Param, ParameterError
 
@@ -100,7 +100,7 @@ class MeasuredInputs:
         load_topic = params["load_topic"] or f"{base}/load"
         markers_topic = params["markers_topic"] or f"{base}/markers/measured"
         self._subscribe(WrenchStamped, load_topic, self._load, qos, MAX_MESSAGE_BYTES,
-                        wrench6_from_cdr)
+                        wrench_vector_from_cdr)
         if self.per_marker:
             n = params["n_markers"] or self.bench.n_markers
             if not n or n < 3:
