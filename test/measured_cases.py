@@ -165,3 +165,30 @@ def verb_script(argv, blocked=("motoflex_ros.structures", "motoflex_ros.bench.ca
             "assert not [m for m, v in sys.modules.items()\n"
             "            if v is not None and m.startswith('motoflex_ros.structures')]\n"
             "sys.exit(code)\n")
+
+
+def compliance_record(compliance, q0, moment_directions, force=100.0, moment=20.0, rate=1000.0,
+                      markers=PLATE):
+    """(t, wrench (n, 6), markers (n, N, 3)) of a loaded end whose out-of-plane motion
+    (u_y [m], theta_x, theta_z [rad]) is ``compliance`` (3 x 3) times (F_y [N], M_x, M_z [N m]):
+    a static test of F_y, then one of a moment ``moment`` along each unit direction of
+    ``moment_directions`` (in the x-z plane), each a cosine ramp, a hold and a ramp down. The
+    markers move rigidly with the end: q0 + (0, u_y, 0) + R(theta) offset (Rodrigues)."""
+    loads = [np.array([0.0, force, 0.0, 0.0, 0.0, 0.0])]
+    loads += [np.concatenate([np.zeros(3), moment * np.asarray(d, float)])
+              for d in moment_directions]
+    test_s, lead_in_s = 1.4, 0.2
+    t = np.arange(0.0, lead_in_s + test_s * len(loads), 1.0 / rate)
+    wrench = np.zeros((len(t), 6))
+    for j, load in enumerate(loads):
+        start = lead_in_s + j * test_s
+        shape = _cosine(t, start, 0.3) - _cosine(t, start + 0.8, 0.3)
+        wrench += shape[:, None] * load[None, :]
+    motion = wrench[:, [1, 3, 5]] @ np.asarray(compliance, float).T   # (u_y, theta_x, theta_z)
+    points = np.empty((len(t), len(markers), 3))
+    for n, (u_y, theta_x, theta_z) in enumerate(motion):
+        theta = np.array([theta_x, 0.0, theta_z])
+        angle = float(np.linalg.norm(theta))
+        rot = _rotation(theta / angle, angle) if angle else np.eye(3)
+        points[n] = np.asarray(q0, float) + np.array([0.0, u_y, 0.0]) + markers @ rot.T
+    return t, wrench, points

@@ -13,7 +13,7 @@
 
 import numpy as np
 import pytest
-from measured_cases import PLATE, bench_yaml, cantilever_record, hinge_record
+from measured_cases import PLATE, bench_yaml, cantilever_record, compliance_record, hinge_record
 
 from motoflex_ros.identify.bench_file import load_bench
 from motoflex_ros.identify.measured import identify_measured
@@ -225,3 +225,29 @@ def test_labelled_moment_tests_give_the_same_principal_hinges(virtual, tmp_path)
                             strict=True):
         for key in KEYS:
             assert mine[key] == pytest.approx(theirs[key], rel=1e-3), key
+
+
+def test_two_unlabelled_moments_nearer_one_axis_both_serve(tmp_path):
+    """Two moment tests whose directions both lie within 45 deg of O-q0 (unlabelled: each
+    would be named after the axial axis) are two independent loads: both are used and C
+    comes back whole (noise-free closed form: the record's own compliance)."""
+    from motoflex_ros.identify.principal import moment_axes
+    compliance = np.array([[2e-6, 3e-6, -1e-6], [3e-6, 2e-5, 2e-6], [-1e-6, 2e-6, 1e-5]])
+    q0 = np.array([0.5, 0.0, -0.2])
+    e0, normal = moment_axes(q0)
+    turn = np.radians(20.0)
+    directions = [np.cos(turn) * e0 + np.sin(turn) * normal,
+                  np.cos(turn) * e0 - np.sin(turn) * normal]
+    t, wrench, points = compliance_record(compliance, q0, directions)
+    carried = ("carried: {mass_kg: 20.0, com_m: [0.55, 0.0, -0.3], inertia_kg_m2: "
+               "{xx: 0.8, yy: 1.2, zz: 0.6}}\n")
+    csv_path, bench_path = tmp_path / "end.csv", tmp_path / "end.yaml"
+    write_csv(csv_path, t, wrench, points)
+    bench_path.write_text(bench_yaml("end", q0, PLATE, noise_m=1e-7) + carried)
+    result = identify_measured(read_csv(csv_path), load_bench(bench_path)).to_dict()
+    moments = [e for e in result["measured"]["tests"] if e["kind"] == "moment"]
+    assert len(moments) == 2 and all(e["used"] for e in moments), moments
+    principal = result["principal"]
+    assert principal["identified"], principal["problem"]
+    np.testing.assert_allclose(principal["compliance"], compliance, rtol=0,
+                               atol=1e-4 * np.abs(compliance).max())

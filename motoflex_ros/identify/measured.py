@@ -209,7 +209,8 @@ def _static_reading(data, poses, seg, reference_frames, load=None):
 def _moment_tests(data, poses, q0, reference_frames):
     """The moment tests of the principal hinges, found as static tests of the torque |M|
     (labelled moment_axial / moment_normal, or not: then named after the nearer of the axes
-    along O-q0 and its normal). Returns ({name: StaticReading (amplitude |M| [N m])},
+    along O-q0 and its normal, or the other name when that one is taken: any two independent
+    moment directions serve). Returns ({name: StaticReading (amplitude |M| [N m])},
     {name: unit wrench (6,), the hold's mean wrench over |M|}, report entries)."""
     torque = np.linalg.norm(data.wrench[:, 3:], axis=1)
     if not np.any(torque):
@@ -228,6 +229,12 @@ def _moment_tests(data, poses, q0, reference_frames):
         name = seg.name if seg.labelled else (
             "moment_axial" if abs(wrench[3:] @ e0) >= abs(wrench[3:] @ normal)
             else "moment_normal")
+        if not seg.labelled and name in readings:
+            # the names are slots, the directions are in the units: a second moment nearer the
+            # same axis takes the free slot (identify_principal checks that the three loads are
+            # independent and says so when they are not)
+            free = [n for n in MOMENT_TESTS if n not in readings]
+            name = free[0] if free else name
         entry = seg.summary(data.t) | {"name": name, "kind": "moment",
                                        "amplitude_n": amplitude}
         if name in readings:
