@@ -344,3 +344,27 @@ def test_metric_is_the_carried_bodies_kinetic_energy_at_q0(component, body_names
         expected += jac.T @ inertia6 @ jac
     metric = carried_by_component(vehicle, {component: comp})[component].metric(q0)
     np.testing.assert_allclose(metric, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())
+
+
+def test_identify_takes_the_metric_from_the_vehicle_given(tmp_path, capsys):
+    """`motoflex identify --vehicle FILE`: the swingarm's carried inertia (the rear wheel) is
+    that vehicle's; a wheel twice as heavy doubles the carried mass and scales the metric G
+    (G is linear in the masses and inertias: here the wheel alone)."""
+    from motoflex_ros.cli.main import main
+
+    data = load_yaml(config_path("vehicles", "touring"))
+    data["wheels"]["rear"]["mass"] *= 2.0
+    data["wheels"]["rear"]["inertia"] = {k: 2.0 * v
+                                         for k, v in data["wheels"]["rear"]["inertia"].items()}
+    heavy = tmp_path / "heavy.yaml"
+    heavy.write_text(yaml.safe_dump(data))
+    results = []
+    for extra in ([], ["--vehicle", str(heavy)]):
+        assert main(["identify", "--component", "swingarm", "--json", *extra]) == 0
+        results.append(json.loads(capsys.readouterr().out)["swingarm"]["principal"])
+    (base, twice) = results
+    assert twice["carried"]["mass_kg"] == pytest.approx(2.0 * base["carried"]["mass_kg"])
+    np.testing.assert_allclose(twice["metric"], 2.0 * np.asarray(base["metric"]), rtol=1e-12)
+    # the hinge directions are the metric's eigen-directions: unchanged by a uniform scale
+    for a, b in zip(base["hinges"], twice["hinges"]):
+        assert a["k"] == pytest.approx(b["k"], rel=1e-9)

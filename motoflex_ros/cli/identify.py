@@ -49,6 +49,9 @@ def register(subparsers):
                         "protocol)")
     p.add_argument("--seed", type=seed_argument, default=0,
                    help="seed of the sensor noise, a whole number >= 0 (default 0)")
+    p.add_argument("--vehicle", default="touring", metavar="NAME|FILE",
+                   help="the motorcycle whose bodies the loaded ends carry: the principal "
+                        "hinges' metric (shipped name or vehicle YAML; default: touring)")
     p.add_argument("--out", metavar="FILE", help="write the results (.yaml/.yml or .json); "
                                                  "an existing file only with --force")
     add_force_option(p)
@@ -164,7 +167,8 @@ def _measured_inputs(args):
                                                      "(--bench BENCH.yaml: bench, loaded_end, "
                                                      "markers, sensor)")
     for option, value in (("--component", args.component), ("--protocol", args.protocol),
-                          ("--noise", args.noise)):
+                          ("--noise", args.noise),
+                          ("--vehicle", args.vehicle if args.vehicle != "touring" else None)):
         if value:
             raise ConfigError("command line", option, f"{option} is for the virtual bench; "
                                                       f"a measured rig has no model (give "
@@ -231,7 +235,8 @@ def run(args):
     from motoflex_ros.study.variants import carried_inertias
     if args.out:
         check_new_file(args.out, args.force)
-    components, carried = carried_inertias(args.component or list(DEFAULT_COMPONENTS))
+    components, carried = carried_inertias(args.component or list(DEFAULT_COMPONENTS),
+                                           args.vehicle)
     if args.protocol:   # a bad protocol is refused before the work (and its progress) starts
         from motoflex_ros.bench.protocols import load_protocol
         load_protocol(args.protocol)
