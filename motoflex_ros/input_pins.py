@@ -77,10 +77,10 @@ def write_pins(path, pins):
     return atomic_write_text(path, json.dumps(pins, indent=1, sort_keys=True) + "\n")
 
 
-def _checked(path, data):
-    """Note ``data`` read from ``path`` with the recorders; InputChanged if it is not the
-    pinned content."""
-    key, digest = _key(path), sha256_bytes(data)
+def _checked(path, digest):
+    """Note ``path``'s content hash ``digest`` with the recorders; InputChanged if it is not
+    the pinned content's."""
+    key = _key(path)
     pinned = load_pins().get(key)
     if pinned is not None and pinned != digest:
         raise InputChanged(f"{path}: input changed during the run (SHA-256 {digest[:16]}... "
@@ -88,19 +88,20 @@ def _checked(path, data):
                            f"file as you want it")
     for record in _recorders:
         record[key] = digest
-    return data
 
 
 def read_input(path):
     """The bytes of input file ``path``, checked against the run's pin (if any) and noted by
     every active :func:`recording_inputs`."""
-    return _checked(path, Path(path).read_bytes())
+    data = Path(path).read_bytes()
+    _checked(path, sha256_bytes(data))
+    return data
 
 
 def note_input(path):
-    """Check and note an input that another library reads itself (a Matrix Market file):
-    the bytes are read once here for the hash."""
-    read_input(path)
+    """Check and note an input that another library reads itself (a mesh file): hashed here
+    in blocks, never held in memory whole."""
+    _checked(path, sha256_file(path))
 
 
 @contextmanager
@@ -118,7 +119,7 @@ def check_pins(pins):
     """InputChanged naming the first pinned file that is gone or no longer has its hash."""
     for path, digest in sorted(pins.items()):
         try:
-            now = sha256_bytes(Path(path).read_bytes())
+            now = sha256_file(path)
         except OSError as exc:
             raise InputChanged(f"{path}: input of the run is gone or unreadable at its end "
                                f"({exc.strerror or exc})") from None
