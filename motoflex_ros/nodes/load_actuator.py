@@ -53,8 +53,8 @@ class LoadActuatorNode(RigNode):
         Topic("pub", "clock", "rosgraph_msgs/msg/Clock", RELIABLE,
               "simulated time: the earliest sample not yet acknowledged, every clock_period"),
         Topic("pub", "bench/{c}/load", "geometry_msgs/msg/WrenchStamped", RELIABLE,
-              "commanded load at the loaded end (force.y = F_y [N]), frame <c>_clamp, "
-              "stamped with the sample's simulated time"),
+              "commanded load at the loaded end (force.y = F_y [N]; the moment tests' "
+              "torque [N m]), frame <c>_clamp, stamped with the sample's simulated time"),
         Topic("pub", "bench/{c}/phase", "std_msgs/msg/String", RELIABLE,
               "the sample's test, kind, phase and timing as JSON; {\"end_ns\": ...} ends the "
               "component's campaign"),
