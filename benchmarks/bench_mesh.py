@@ -26,7 +26,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 import yaml
 
-from motoflex_ros.structures.components import load_component
+from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.craig_bampton import craig_bampton, interior_blocks
 from motoflex_ros.structures.mesh_examples import box_mesh, write_mesh
 from motoflex_ros.structures.sparse_solver import default_threads, factorize_spd

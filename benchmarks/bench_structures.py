@@ -13,7 +13,8 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from motoflex_ros.structures.beam import Material
-from motoflex_ros.structures.components import load_component, tube_component
+from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.structures.component_model import tube_component
 from motoflex_ros.structures.craig_bampton import craig_bampton
 
 

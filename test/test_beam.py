@@ -14,7 +14,7 @@ from scipy.optimize import brentq
 
 from motoflex_ros.structures.assembly import Structure
 from motoflex_ros.structures.beam import Material, rectangular_tube_section, tube_section
-from motoflex_ros.structures.components import tube_component
+from motoflex_ros.structures.component_model import tube_component
 
 STEEL = Material(E=2.1e11, G=8.1e10, rho=7850.0)
 LENGTH, DIAMETER, WALL = 0.6, 0.04, 0.002

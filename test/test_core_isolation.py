@@ -6,7 +6,7 @@ from pathlib import Path
 
 import motoflex_ros
 
-CORE = ("structures", "bench", "identify", "vehicle", "study")
+CORE = ("lumped_stiffness", "structures", "bench", "identify", "vehicle", "study")
 BLOCKED = ("rclpy", "rerun", "mcap", "mcap_ros2", "matplotlib", "rosbags")
 
 
@@ -24,7 +24,7 @@ def core_modules():
 
 def test_core_imports_without_middleware():
     modules = core_modules()
-    assert "motoflex_ros.identify.axis" in modules
+    assert "motoflex_ros.lumped_stiffness.axis" in modules
     script = (
         "import sys, importlib\n"
         f"for name in {BLOCKED!r}:\n"

@@ -7,7 +7,7 @@ import scipy.sparse.linalg as spla
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.structures import load_component
 from motoflex_ros.structures.beam import Material
-from motoflex_ros.structures.components import tube_component
+from motoflex_ros.structures.component_model import tube_component
 from motoflex_ros.structures.craig_bampton import craig_bampton
 from motoflex_ros.structures.full_model import full_clamped_matrices
 

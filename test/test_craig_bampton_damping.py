@@ -12,7 +12,7 @@ import yaml
 
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.structures.clamped import eigenspaces, modal_damping
-from motoflex_ros.structures.components import load_component
+from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.craig_bampton import checked_damping_ratio
 
 TUBE = {"component": "tube",

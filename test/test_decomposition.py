@@ -3,7 +3,10 @@ import numpy as np
 import pytest
 
 from motoflex_ros.errors import ModelError
-from motoflex_ros.identify.decomposition import decompose_stiffness, static_stiffness_from_split
+from motoflex_ros.lumped_stiffness.decomposition import (
+    decompose_stiffness,
+    static_stiffness_from_split,
+)
 
 
 @pytest.mark.parametrize("k_t, k_b, beta_t, b_t, beta_b, b_b, b", [

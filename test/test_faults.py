@@ -223,7 +223,7 @@ import rclpy
 from rclpy.node import Node
 sys.path.insert(0, sys.argv[3])
 from test_faults import _forged
-from motoflex_ros.launcher.dds import configure_dds
+from motoflex_ros.nodes.dds import configure_dds
 configure_dds(os.environ)   # the rig's own DDS set-up: discovery as between the run's nodes
 rclpy.init(args=[], domain_id=int(sys.argv[1]))
 node = Node("intruder")

@@ -11,7 +11,7 @@ from motoflex_ros.bench.sensor import (
     SensorSettings,
     marker_positions,
 )
-from motoflex_ros.identify.axis import deformation_axis
+from motoflex_ros.lumped_stiffness.axis import deformation_axis
 from motoflex_ros.spatial import rotation_from_vector
 
 EXACT = SensorSettings(noise_m=0.0, resolution_m=0.0, latency_s=0.0)

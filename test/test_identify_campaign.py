@@ -86,7 +86,7 @@ def test_free_decay_matches_eigenvalues(exact_campaign):
 
 def frequency_domain_split(setup):
     """k, k_t, k_b from the exact static response and the steady harmonic peaks (eqs 8, 12)."""
-    from motoflex_ros.identify.decomposition import decompose_stiffness
+    from motoflex_ros.lumped_stiffness.decomposition import decompose_stiffness
     static = setup.reduced.static_lateral(setup.protocol.static.force_n)
     t = steady_axis(setup, setup.modes.first("torsion").f_hz)
     b = steady_axis(setup, setup.modes.first("bending").f_hz)

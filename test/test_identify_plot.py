@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 
 from motoflex_ros.bench.campaign import run_campaign, setup_campaign, with_sensor
-from motoflex_ros.identify.axis import deformation_axis
 from motoflex_ros.identify.peaks import unwrap_angle
+from motoflex_ros.lumped_stiffness.axis import deformation_axis
 
 
 def test_axis_segment_roundtrip():

@@ -12,9 +12,9 @@ import pytest
 
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError, ModelError
-from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.principal import principal_hinges
-from motoflex_ros.structures.components import load_component
+from motoflex_ros.lumped_stiffness.axis import axis_stiffness
+from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.study import variants
 from motoflex_ros.study.variants import build_variant, carried_by_component
 from motoflex_ros.vehicle import lumped

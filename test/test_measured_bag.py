@@ -53,7 +53,7 @@ def _same(a, b, path="result"):
 
 
 def _comparable(result):
-    from motoflex_ros.results_file import to_jsonable
+    from motoflex_ros.formats.json_yaml import to_jsonable
     out = to_jsonable(result)
     out["measured"].pop("source")
     out["measured"]["counts"] = {k: v for k, v in out["measured"]["counts"].items()
@@ -113,7 +113,7 @@ def test_emulated_rig_bag_without_the_fe_model(tmp_path):
     """bags/example's frame through the measured mode, the structures package blocked."""
     virtual = json.loads((EXAMPLE / "identification.json").read_text())["frame"]
     from motoflex_ros.bench.sensor import DEFAULT_MARKERS
-    from motoflex_ros.structures.components import load_component  # here, not in the child
+    from motoflex_ros.structures.component_loader import load_component  # here, not in the child
     q0 = load_component("frame").clamped_reduced().q0.tolist()
     (tmp_path / "bench.yaml").write_text(yaml.safe_dump({
         "bench": "frame", "loaded_end": [float(v) for v in q0],

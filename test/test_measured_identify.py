@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 from measured_cases import PLATE, bench_yaml, cantilever_record, compliance_record, hinge_record
 
+from motoflex_ros.formats.json_yaml import to_jsonable
 from motoflex_ros.identify.bench_file import load_bench
 from motoflex_ros.identify.measured import identify_measured
 from motoflex_ros.identify.measurements import read_csv, write_csv
-from motoflex_ros.results_file import to_jsonable
 
 KEYS = ("l", "beta", "b", "k")
 

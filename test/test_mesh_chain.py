@@ -16,9 +16,9 @@ import pytest
 import scipy.sparse.linalg as spla
 
 from motoflex_ros.bench.campaign import run_campaign, setup_campaign
-from motoflex_ros.identify.axis import axis_stiffness, deformation_axis
+from motoflex_ros.lumped_stiffness.axis import axis_stiffness, deformation_axis
 from motoflex_ros.structures.clamped import end_pose
-from motoflex_ros.structures.components import load_component
+from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.full_model import full_clamped_matrices
 from motoflex_ros.structures.mesh_examples import write_bracket_component
 

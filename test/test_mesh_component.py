@@ -14,7 +14,8 @@ import scipy.sparse.linalg as spla
 import yaml
 
 from motoflex_ros.structures.beam import Material
-from motoflex_ros.structures.components import load_component, tube_component
+from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.structures.component_model import tube_component
 from motoflex_ros.structures.full_model import full_clamped_matrices, full_clamped_modes
 from motoflex_ros.structures.mesh_examples import box_mesh, tube_mesh, write_mesh
 from motoflex_ros.structures.solid import SolidBlock, assemble_solid

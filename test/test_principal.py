@@ -317,7 +317,7 @@ def test_metric_is_the_carried_bodies_kinetic_energy_at_q0(component, body_names
     of each carried body of the vehicle file, body by body, for the motions (u_y, theta_x,
     theta_z) of q0 (J^T diag(m, I) J summed; a sign slip in the offset terms moves the front
     assembly's bending hinge by 14 deg)."""
-    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.structures.component_loader import load_component
     from motoflex_ros.study.variants import carried_by_component
     from motoflex_ros.vehicle import lumped
     from motoflex_ros.vehicle.model import load_vehicle

@@ -8,7 +8,7 @@ import pytest
 from motoflex_ros.cli.study import agreement
 from motoflex_ros.config import config_path
 from motoflex_ros.identify.principal import principal_hinges
-from motoflex_ros.structures.components import load_component
+from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.study.motorcycle import (
     principal_factors,
     principal_study,

@@ -18,7 +18,7 @@ BASE = load_yaml(config_path("protocols", "swingarm"))
 def first_hz():
     """First torsion/bending eigenfrequency of the swingarm [Hz] (from its reduced model)."""
     from motoflex_ros.bench.modes import clamped_modes
-    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.structures.component_loader import load_component
     return clamped_modes(load_component("swingarm").clamped_reduced()).first_lateral().f_hz
 
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import yaml
 
-from motoflex_ros.structures import components as components_module
-from motoflex_ros.structures.components import load_component
+from motoflex_ros.structures import component_model as components_module
+from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.mesh_examples import write_bracket_component
 
 

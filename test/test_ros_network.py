@@ -19,7 +19,6 @@ from pathlib import Path
 import pytest
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.launcher.dds import PROFILE_ENV, configure_dds, loopback_profile
 from motoflex_ros.launcher.domain import (
     DOMAIN_GAIN,
     DOMAIN_IDS,
@@ -29,6 +28,7 @@ from motoflex_ros.launcher.domain import (
     domain_in_use,
     requested_domain,
 )
+from motoflex_ros.nodes.dds import PROFILE_ENV, configure_dds, loopback_profile
 
 RANGE = "ROS_AUTOMATIC_DISCOVERY_RANGE"
 NS = "{http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles}"

@@ -214,7 +214,7 @@ def test_live_measured_inputs_keep_a_rolling_bound(tmp_path):
 
 # ---------------------------------------------------------------- point 9: a full domain
 PAIR = """import os, sys, time
-from motoflex_ros.launcher.dds import configure_dds
+from motoflex_ros.nodes.dds import configure_dds
 configure_dds(os.environ)
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
@@ -277,8 +277,8 @@ def test_campaign_in_a_domain_beyond_the_profiles_reach_is_refused_naming_it(tmp
     """When the domain already holds more participants than the loopback profile's
     maxInitialPeersRange leaves room for, the campaign stops at once saying so (it used to
     wait 40 s and blame a node that did not announce itself)."""
-    from motoflex_ros.launcher.dds import loopback_profile
     from motoflex_ros.launcher.domain import DomainLock
+    from motoflex_ros.nodes.dds import loopback_profile
     with DomainLock() as lock:
         domain = lock.domain_id
     sockets = _occupy_participant_ids(domain, 118)

@@ -11,7 +11,7 @@ import pytest
 from motoflex_ros.bench.campaign import identify_components
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ModelError
-from motoflex_ros.structures.components import load_component
+from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.study.accuracy import rms_error_percent
 from motoflex_ros.study.lumped_accuracy import (
     ACCURACY_VARIANTS,

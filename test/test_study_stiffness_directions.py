@@ -63,7 +63,7 @@ def motorcycle():
     from motoflex_ros.bench.campaign import identify_components
     from motoflex_ros.cli.output import to_jsonable
     from motoflex_ros.config import config_path
-    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.structures.component_loader import load_component
     from motoflex_ros.vehicle.lumped import COMPONENTS
     from motoflex_ros.vehicle.model import load_vehicle
     runs = identify_components(list(COMPONENTS))

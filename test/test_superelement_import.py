@@ -16,7 +16,7 @@ import pytest
 from motoflex_ros.bench.campaign import run_campaign, setup_campaign, with_sensor
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.structures.components import load_component
+from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.mesh_examples import write_bracket_component
 from motoflex_ros.structures.superelement_file import export_superelement
 from motoflex_ros.vehicle import lumped

@@ -55,7 +55,7 @@ def setup_campaign(component, protocol=None, noise_m=None, carried=None):
     Protocol or None for the component's shipped protocol); noise_m [m] overrides the sensor;
     ``carried`` the CarriedInertia of the principal hinges (None: they are not identified).
     """
-    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.structures.component_loader import load_component
     comp = load_component(component) if isinstance(component, str) else component
     reduced = comp.clamped_reduced()
     if protocol is None:

@@ -102,7 +102,7 @@ def _rows(summaries):
 
 
 def run(args):
-    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.structures.component_loader import load_component
     from motoflex_ros.structures.published import COMPONENTS
     from motoflex_ros.structures.summary import summarize
 

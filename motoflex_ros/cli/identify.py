@@ -25,7 +25,7 @@ from motoflex_ros.cli.output import (
     progress_bar,
 )
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
-from motoflex_ros.results_file import write_results
+from motoflex_ros.formats.json_yaml import write_results
 
 __all__ = ["register", "run", "format_interval", "DEFAULT_COMPONENTS"]
 

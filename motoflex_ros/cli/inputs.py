@@ -39,7 +39,7 @@ def identification_results(path=None, components=COMPONENTS, seed=0, vehicle="to
 def motorcycle_components(names=COMPONENTS, roles=None):
     """{name: structures Component} of the motorcycle components: the shipped ones, or the file
     ``roles[name]`` where one is given (``--use``, :func:`component_roles`; said on stderr)."""
-    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.structures.component_loader import load_component
 
     for name, path in (roles or {}).items():
         if name in names:
@@ -59,7 +59,7 @@ def component_roles(files):
     """{role: path} of ``--use FILE ...``: each file's component name (``component`` of a beam
     file, ``name`` or the file's stem of a mesh or superelement file) must be one of the
     motorcycle's components, each at most once. ConfigError naming the file otherwise."""
-    from motoflex_ros.structures.components import component_name
+    from motoflex_ros.structures.component_loader import component_name
 
     roles = {}
     for text in files or ():

@@ -1,11 +1,10 @@
 """Shared output helpers of the CLI verbs: JSON to stdout, tables, atomic file writes."""
-import json
 import sys
 from pathlib import Path
 
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.files import OutputError, atomic_write_text, check_output_path
-from motoflex_ros.results_file import to_jsonable
+from motoflex_ros.formats.json_yaml import json_text, to_jsonable
 
 __all__ = ["emit_json", "to_jsonable", "atomic_write_text", "print_table", "add_force_option",
            "check_new_file"]
@@ -37,9 +36,7 @@ def check_new_file(path, force, option="--out"):
 
 def emit_json(obj, stream=None):
     """Print ``obj`` as JSON on stdout (the machine-readable output of ``--json``)."""
-    stream = stream or sys.stdout
-    json.dump(to_jsonable(obj), stream, indent=1, allow_nan=False)
-    stream.write("\n")
+    (stream or sys.stdout).write(json_text(obj))
 
 
 def print_table(header, rows, stream=None):

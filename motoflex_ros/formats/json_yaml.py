@@ -13,7 +13,7 @@ import yaml
 
 from motoflex_ros.files import atomic_write_text
 
-__all__ = ["to_jsonable", "write_results"]
+__all__ = ["to_jsonable", "json_text", "write_results"]
 
 
 def to_jsonable(obj):
@@ -35,13 +35,18 @@ def to_jsonable(obj):
     return obj
 
 
+def json_text(obj):
+    """``obj`` as strict JSON text (:func:`to_jsonable`, indent 1, newline-terminated): the
+    shape of every ``--json`` output and of the JSON result files."""
+    return json.dumps(to_jsonable(obj), indent=1, allow_nan=False) + "\n"
+
+
 def write_results(path, results):
     """Write results ({component: result dict}) as JSON, or YAML for a .yaml/.yml path,
     atomically; returns the path."""
     path = Path(path)
-    data = to_jsonable(results)
     if path.suffix in (".yaml", ".yml"):
-        text = yaml.safe_dump(data, sort_keys=False)
+        text = yaml.safe_dump(to_jsonable(results), sort_keys=False)
     else:
-        text = json.dumps(data, indent=1, allow_nan=False) + "\n"
+        text = json_text(results)
     return atomic_write_text(path, text)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.identify.axis import deformation_axis
+from motoflex_ros.lumped_stiffness.axis import deformation_axis
 from motoflex_ros.spatial import rotation_from_vector
 
 __all__ = ["fit_sine", "peak_poses", "axis_of_pose", "RunningMean", "unwrap_angle",

@@ -13,14 +13,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from motoflex_ros.errors import ConfigError, ProtocolError
-from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.axis_model import AxisModel
 from motoflex_ros.identify.decay import match_pole
-from motoflex_ros.identify.decomposition import decompose_stiffness, split_problem
 from motoflex_ros.identify.peaks import axis_of_pose, unwrap_axis, wrap_axis
 from motoflex_ros.identify.principal import MOMENT_TESTS, identify_principal
 from motoflex_ros.identify.stiffness import modal_damping, modal_inertia, static_damping
 from motoflex_ros.identify.uncertainty import LEVEL, interval, propagate
+from motoflex_ros.lumped_stiffness.axis import axis_stiffness
+from motoflex_ros.lumped_stiffness.decomposition import decompose_stiffness, split_problem
 
 __all__ = ["AxisModel", "ComponentIdentification", "identify_component", "static_model",
            "mode_model", "harmonic_axis", "split_model", "check_positive_k", "MEASURED_KEY",

@@ -1,7 +1,7 @@
 """Natural frequency, damping ratio, modal inertia and damping: eqs. (9)-(11), and c = gamma k.
 
 Passigato et al. 2023, Sect. 4.2.2. The stiffness k itself is eq. (8),
-:func:`motoflex_ros.identify.axis.axis_stiffness`.
+:func:`motoflex_ros.lumped_stiffness.axis.axis_stiffness`.
 """
 import numpy as np
 

@@ -65,7 +65,7 @@ def bench_components(components):
     /bench/<name>/...) and what the nodes load (a shipped name, or a YAML file's absolute
     path); ConfigError when two have one name."""
     from motoflex_ros.errors import ConfigError
-    from motoflex_ros.structures.components import component_name
+    from motoflex_ros.structures.component_loader import component_name
     names, specs = [], []
     for given in components:
         name = component_name(given)

@@ -24,7 +24,7 @@ import yaml
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.input_pins import PINS_ENV, sha256_bytes, write_pins
-from motoflex_ros.launcher.dds import configure_dds
+from motoflex_ros.nodes.dds import configure_dds
 from motoflex_ros.nodes.endpoints import ENDPOINTS_ENV
 
 __all__ = ["NodeSpec", "NodeGraph", "NodeDied", "ros_env", "describe_exit", "namespace_args",

@@ -8,6 +8,7 @@ from std_msgs.msg import String
 
 from motoflex_ros.launcher.graph import NodeDied
 from motoflex_ros.launcher.interrupts import raise_if_interrupted
+from motoflex_ros.launcher.run_failures import pacer_failed, peer_room_problem
 from motoflex_ros.nodes.conversions import time_ns
 from motoflex_ros.nodes.endpoints import GraphWatch, InputGuard
 from motoflex_ros.nodes.runtime import PROGRESS_TOPIC, READY_TOPIC, FastSpinner, latched_qos
@@ -66,7 +67,6 @@ class Monitor(Node):
                 return
             graph.check_alive(allowed=(pacer, *done))
             if time.monotonic() > deadline:
-                from motoflex_ros.launcher.run import peer_room_problem
                 missing = ", ".join(sorted(self.names - self.ready))
                 full = peer_room_problem(graph.domain_id)   # joined by others meanwhile?
                 raise NodeDied(f"nodes not up after {timeout:g} s: {missing}"
@@ -78,7 +78,6 @@ class Monitor(Node):
         out of ``tests_total`` (a campaign: a test settles at a time no one knows before, so
         simulated time has no fixed total), else simulated time out of ``duration_s`` [s]
         (a replay: the bag's duration)."""
-        from motoflex_ros.launcher.run import pacer_failed
         bar = _progress_bar(duration_s, tests_total) if progress else None
         try:
             while True:
@@ -112,7 +111,6 @@ class Monitor(Node):
 
     def wait_finishers(self, graph, done, timeout):
         """Wait until every node in ``done`` exited 0 (the pacer first, then the finishers)."""
-        from motoflex_ros.launcher.run import pacer_failed
         deadline = time.monotonic() + timeout
         while True:
             exited = graph.exited()

@@ -17,17 +17,18 @@ from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.input_pins import InputChanged, check_pins
-from motoflex_ros.launcher.dds import configure_dds, peers_range
-from motoflex_ros.launcher.domain import DomainLock, participants_in_domain, requested_domain
+from motoflex_ros.launcher.domain import DomainLock, requested_domain
 from motoflex_ros.launcher.graph import NodeDied, NodeGraph, describe_exit
 from motoflex_ros.launcher.interrupts import deferred_interrupts, raise_if_interrupted
+from motoflex_ros.launcher.run_failures import (
+    RunFailed,
+    check_peer_room,
+    peer_room_problem,
+)
+from motoflex_ros.nodes.dds import configure_dds
 
 __all__ = ["RunFailed", "RunInterrupted", "RunResult", "run_graph", "work_folder",
            "ros_log_home", "peer_room_problem", "check_peer_room"]
-
-
-class RunFailed(MotoflexError):
-    """The run could not finish (a node died, did not come up, or failed)."""
 
 
 class RunInterrupted(MotoflexError):
@@ -134,29 +135,6 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
     return RunResult(lock.domain_id, time.monotonic() - start, codes, collected)
 
 
-def peer_room_problem(domain_id, ours=0):
-    """Why the run's ``ours`` participants would not all discover each other in the domain
-    (the loopback profile reaches the first maxInitialPeersRange participant ids only), in
-    words; None when they fit (or another profile decides discovery)."""
-    reach, profile = peers_range(os.environ)
-    if reach is None:
-        return None
-    others = participants_in_domain(domain_id)
-    if others + ours <= reach:
-        return None
-    return (f"ROS_DOMAIN_ID {domain_id} has {others} DDS participants on this host; with this "
-            f"run's {ours} that is above the {reach} the loopback profile's "
-            f"maxInitialPeersRange lets discovery reach ({profile}): the nodes would not find "
-            f"each other. Use another ROS_DOMAIN_ID (or leave it unset for a free one)")
-
-
-def check_peer_room(domain_id, ours):
-    """RunFailed at once when :func:`peer_room_problem` finds the domain too full."""
-    problem = peer_room_problem(domain_id, ours)
-    if problem:
-        raise RunFailed(problem)
-
-
 def _monitor(graph, pacer, planned, collect, progress, ready_timeout, ending):
     import rclpy
     from rclpy.signals import SignalHandlerOptions
@@ -189,12 +167,3 @@ def _check_exit_codes(graph, codes):
         raise RunFailed(f"node '{name}' ended with {describe_exit(code)} at the end of the run "
                         f"(exit 3 means it saw lost messages); its log: "
                         f"{graph.log_dir / (name + '.log')}: {graph.log_tail(name)}")
-
-
-def pacer_failed(graph, pacer, code):
-    """RunFailed for a pacing node that ended with ``code``."""
-    verb = "died" if code < 0 else "failed"
-    full = peer_room_problem(graph.domain_id)   # others joined the domain during the run
-    return RunFailed(f"node '{pacer}' {verb} ({describe_exit(code)}); its log: "
-                     f"{graph.log_dir / (pacer + '.log')}: {graph.log_tail(pacer)}"
-                     + (f"; likely cause: {full}" if full else ""))

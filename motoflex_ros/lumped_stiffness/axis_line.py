@@ -1,7 +1,7 @@
 """Drawing geometry of identified deformation axes (shared by the report and the recording)."""
 import numpy as np
 
-from motoflex_ros.identify.axis import DeformationAxis, axis_in_plane
+from motoflex_ros.lumped_stiffness.axis import DeformationAxis, axis_in_plane
 
 __all__ = ["axis_from_l_beta", "axis_segment"]
 

@@ -35,6 +35,7 @@ from geometry_msgs.msg import PoseArray, WrenchStamped
 from std_msgs.msg import Float64MultiArray, String
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.formats.json_yaml import write_results
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.conversions import (
@@ -60,7 +61,6 @@ from motoflex_ros.nodes.measured_inputs import MEASURED_PARAMS, MeasuredInputs
 from motoflex_ros.nodes.message_checks import BenchInputs
 from motoflex_ros.nodes.params import Param
 from motoflex_ros.nodes.runtime import ACK_TOPIC, RigNode, latched_qos, run_node
-from motoflex_ros.results_file import write_results
 
 __all__ = ["IdentificationNode", "main", "RESULTS_TOPIC"]
 
@@ -134,8 +134,8 @@ class IdentificationNode(RigNode):
                 self.get_logger().error(f"not identified yet: {exc}")
 
     def _finish_measured(self):
+        from motoflex_ros.formats.json_yaml import to_jsonable
         from motoflex_ros.identify.measured import identify_measured
-        from motoflex_ros.results_file import to_jsonable
         bench = self.live.bench
         result = identify_measured(self.live.measurements(), bench).to_dict()
         measured = result.pop("measured")

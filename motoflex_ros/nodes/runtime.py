@@ -16,7 +16,7 @@
   burst instead of one executor turn per message (measured about 13x faster than
   ``SingleThreadedExecutor.spin_once``, which lost the race at about 1,500 messages/s here).
 - :func:`run_node` is every executable's ``main``: DDS on loopback unless MOTOFLEX_DDS=network
-  (:mod:`motoflex_ros.launcher.dds`), ``rclpy.init`` reads ``--ros-args``
+  (:mod:`motoflex_ros.nodes.dds`), ``rclpy.init`` reads ``--ros-args``
   (``-p``, ``--params-file``), SIGINT and SIGTERM end the loop cleanly (the node's
   :meth:`RigNode.close` runs), a parameter error prints one line and exits with 2;
   ``--help`` prints the node's parameters with their defaults and exits 0. A node with
@@ -41,7 +41,7 @@ from rclpy.signals import SignalHandlerOptions
 from std_msgs.msg import String
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.launcher.dds import configure_dds
+from motoflex_ros.nodes.dds import configure_dds
 from motoflex_ros.nodes.endpoints import InputGuard, RunEndpoints
 from motoflex_ros.nodes.interfaces import topics_help
 from motoflex_ros.nodes.params import declare_parameters, parameters_help

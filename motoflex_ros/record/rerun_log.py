@@ -39,7 +39,7 @@ import numpy as np
 import rerun as rr
 
 from motoflex_ros.files import check_output_path
-from motoflex_ros.report.geometry import axis_from_l_beta, axis_segment
+from motoflex_ros.lumped_stiffness.axis_line import axis_from_l_beta, axis_segment
 
 __all__ = ["TIMELINE", "RunRecording", "log_component_frame",
            "log_structure", "log_structure_model", "log_load", "log_axis", "log_sweep_axes",

@@ -5,7 +5,7 @@ is ever made up. Progress bars (tqdm, stderr) run over the data sources and the 
 """
 import time
 
-from motoflex_ros.cli.output import atomic_write_text
+from motoflex_ros.files import atomic_write_text
 from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
 from motoflex_ros.progress import progress_bar
 from motoflex_ros.report import tables

@@ -5,15 +5,14 @@ Each source is one verb's ``--json`` output saved in the run folder under a fixe
 running the verb and saves what it got, so the report can always be traced to its JSON).
 A source that is neither saved nor computable is "not available" with the reason.
 """
-import io
 import json
 import subprocess
 import sys
 import time
 from dataclasses import dataclass, field
 
-from motoflex_ros.cli.output import atomic_write_text, emit_json
-from motoflex_ros.files import read_json
+from motoflex_ros.files import atomic_write_text, read_json
+from motoflex_ros.formats.json_yaml import json_text
 from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
 from motoflex_ros.progress import progress_bar
 
@@ -105,9 +104,7 @@ def _compute(folder, source):
 
 
 def _save(folder, source, data):
-    buffer = io.StringIO()
-    emit_json(data, buffer)
-    atomic_write_text(folder / source.file, buffer.getvalue())
+    atomic_write_text(folder / source.file, json_text(data))
 
 
 def _not_the_runs(folder, source):

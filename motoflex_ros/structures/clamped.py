@@ -13,7 +13,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from motoflex_ros.errors import ModelError
-from motoflex_ros.identify.axis import axis_stiffness, deformation_axis
+from motoflex_ros.lumped_stiffness.axis import axis_stiffness, deformation_axis
 from motoflex_ros.spatial import skew
 
 __all__ = ["ReducedComponent", "StaticResult", "label_mode", "end_pose", "modal_damping",

@@ -1,6 +1,8 @@
-"""Components described in YAML (config/components/*.yaml) as beam structures.
+"""The component model every kind shares, and the beam components (config/components/*.yaml).
 
-Two formats, both validated on load with :mod:`motoflex_ros.config`:
+:class:`ComponentModel` is the chain from a structure to its Craig-Bampton and clamped reduced
+models; :class:`Component` is a beam structure. Two YAML formats build one (read by
+:mod:`motoflex_ros.structures.component_loader`):
 
 - ``component: tube``: the generic validation tube (keys ``tube``, ``material``, ``elements``);
   it starts at the clamp O, lies in the x-z plane at ``pitch_deg`` above x, and its free end is
@@ -11,15 +13,13 @@ Two formats, both validated on load with :mod:`motoflex_ros.config`:
   interface nodes (clamps, loaded end). ``placement.origin`` is O in the vehicle frame [m].
 """
 import math
-from dataclasses import dataclass, replace
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.config import Field, number, resolve_config, validate
 from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.structures.assembly import AssembledStructure, Structure
-from motoflex_ros.structures.beam import Material, tube_section
+from motoflex_ros.structures.beam import tube_section
 from motoflex_ros.structures.clamped import (
     check_one_ratio_per_eigenspace,
     clamped_frequencies,
@@ -27,10 +27,8 @@ from motoflex_ros.structures.clamped import (
 )
 from motoflex_ros.structures.craig_bampton import craig_bampton
 from motoflex_ros.structures.reduction_cache import load_reduction, reduction_key, store_reduction
-from motoflex_ros.structures.schema import load_component_config, structure_from_config
 
-__all__ = ["ComponentModel", "Component", "load_component", "tube_component",
-           "component_name", "DEFAULT_DAMPING_RATIO"]
+__all__ = ["ComponentModel", "Component", "tube_component", "DEFAULT_DAMPING_RATIO"]
 
 DEFAULT_DAMPING_RATIO = 0.01  # issue 3: modal damping ratio per mode, default 1 %
 
@@ -235,51 +233,3 @@ def tube_component(length, outer_diameter, wall_thickness, pitch_deg, material, 
     return Component(name=name, structure=s, clamp_nodes=(root,), loaded_end=tip,
                      interface_nodes=(root, tip), node_names={"clamp": root, "free_end": tip},
                      origin=np.zeros(3))
-
-
-def load_component(name_or_file):
-    """Load a shipped component by name ('frame', 'tube', ...) or a YAML file path (a beam
-    structure, the tube, ``component: mesh``: a
-    :class:`~motoflex_ros.structures.mesh_component.MeshComponent`, or ``component:
-    superelement``: a :class:`~motoflex_ros.structures.superelement_file.
-    SuperelementComponent`)."""
-    path = resolve_config("components", name_or_file)
-    cfg = load_component_config(path)
-    damping = damping_ratio_setting(cfg.get("damping_ratio"), path)
-    if cfg["component"] == "mesh":
-        from motoflex_ros.structures.mesh_component import load_mesh_component
-        return load_mesh_component(cfg, path, damping)
-    if cfg["component"] == "superelement":
-        from motoflex_ros.structures.superelement_file import load_superelement_component
-        return load_superelement_component(cfg, path, damping)
-    if cfg["component"] == "tube":
-        t, m = cfg["tube"], cfg["material"]
-        comp = tube_component(t["length"], t["outer_diameter"], t["wall_thickness"],
-                              t["pitch_deg"], Material(m["E"], m["G"], m["rho"]),
-                              cfg["elements"])
-    else:
-        comp = structure_from_config(cfg, path, Component)
-    return replace(comp, source=str(Path(path)), damping_ratio=damping)
-
-
-def component_name(name_or_file):
-    """The name a component (shipped name or YAML file) goes by, from its file alone (no model
-    is built): ``component`` of a beam file, ``name`` (or the file's stem) of a mesh file."""
-    path = resolve_config("components", name_or_file)
-    cfg = load_component_config(path)
-    if cfg["component"] in ("mesh", "superelement"):
-        from motoflex_ros.structures.mesh_component import mesh_component_name
-        return mesh_component_name(cfg, path)
-    return cfg["component"]
-
-
-def damping_ratio_setting(value, source):
-    """The ``damping_ratio`` key [-]: None (default 1 %), a number in [0, 1) or a non-empty list
-    of them (one per mode of the clamped reduced model); ConfigError naming file and key."""
-    if value is None:
-        return DEFAULT_DAMPING_RATIO
-    ratio = number(0.0, 1.0, open_high=True)
-    if isinstance(value, list):
-        return tuple(validate(value, Field("list", min_items=1, item=ratio), source,
-                              "damping_ratio"))
-    return validate(value, ratio, source, "damping_ratio")

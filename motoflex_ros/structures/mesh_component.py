@@ -44,7 +44,7 @@ from motoflex_ros.inertia import check_inertia
 from motoflex_ros.limits import check_limit
 from motoflex_ros.spatial import skew
 from motoflex_ros.structures.assembly import AssembledStructure, rigid_body_mass
-from motoflex_ros.structures.components import DEFAULT_DAMPING_RATIO, ComponentModel
+from motoflex_ros.structures.component_model import DEFAULT_DAMPING_RATIO, ComponentModel
 from motoflex_ros.structures.mesh_file import UNITS, read_mesh
 from motoflex_ros.structures.solid import CORNERS, ElementError, assemble_solid
 

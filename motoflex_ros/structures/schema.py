@@ -7,14 +7,14 @@ import math
 
 import numpy as np
 
-from motoflex_ros.config import Field, angle, load_yaml, number, positive, validate
+from motoflex_ros.config import Field, angle, number, positive
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.inertia import check_inertia
 from motoflex_ros.limits import check_limit
 from motoflex_ros.structures.assembly import Structure
 from motoflex_ros.structures.beam import Material, rectangular_tube_section, tube_section
 
-__all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "load_component_config", "structure_from_config"]
+__all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "structure_from_config"]
 
 # Physical ranges of every number (SI): wide enough for any metal, composite or polymer
 # component on a bench, narrow enough that no value overflows the stiffness and mass matrices
@@ -37,7 +37,8 @@ _MATERIAL = Field("mapping", fields={
 _POINT = Field("vec3", -COMPONENT_SIZE_M, COMPONENT_SIZE_M)
 _DIRECTION = Field("vec3", -1e3, 1e3, required=False, default=None)
 
-# modal damping ratio of the clamped reduced model: checked by components.damping_ratio_setting
+# modal damping ratio of the clamped reduced model: checked by
+# component_loader.damping_ratio_setting
 _DAMPING = Field("any", required=False, default=None,
                  help="a number in [0, 1) or a list of them, one per mode")
 
@@ -104,32 +105,6 @@ STRUCTURE_SCHEMA = Field("mapping", fields={
     "bodies": Field("mapping", required=False, default={}, extra=True, fields={},
                     item=Field("str")),
 })
-
-
-def load_component_config(path):
-    """Read and validate a component YAML file (tube or structure schema)."""
-    data = load_yaml(path)
-    if not isinstance(data, dict):
-        raise ConfigError(path, "(top level)", "expected a mapping")
-    if "component" not in data:
-        raise ConfigError(path, "component", "missing (required: tube, mesh, superelement, frame, "
-                                             "front_assembly, swingarm or another name)")
-    if data["component"] == "mesh":
-        from motoflex_ros.structures.mesh_component import MESH_SCHEMA
-        return validate(data, MESH_SCHEMA, path)
-    if data["component"] == "superelement":
-        from motoflex_ros.structures.superelement_file import SUPERELEMENT_SCHEMA
-        return validate(data, SUPERELEMENT_SCHEMA, path)
-    schema = TUBE_SCHEMA if data["component"] == "tube" else STRUCTURE_SCHEMA
-    cfg = validate(data, schema, path)
-    if cfg["component"] == "tube":
-        t = cfg["tube"]
-        if 2 * t["wall_thickness"] >= t["outer_diameter"]:
-            raise ConfigError(path, "tube.wall_thickness", "must be less than half the outer "
-                                                           "diameter")
-        check_limit("dofs", 6 * (cfg["elements"] + 1), path, "elements",
-                    f"{cfg['elements']} elements")
-    return cfg
 
 
 def _section(spec, source, key):

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from motoflex_ros.errors import ModelError
-from motoflex_ros.identify.decomposition import decompose_stiffness
+from motoflex_ros.lumped_stiffness.decomposition import decompose_stiffness
 
 __all__ = ["ComponentSummary", "summarize", "reduced_model_warnings", "REDUCED_TOLERANCE"]
 

@@ -35,8 +35,9 @@ from motoflex_ros.errors import ConfigError
 from motoflex_ros.files import atomic_write_bytes, atomic_write_text, missing_file_text
 from motoflex_ros.input_pins import read_input
 from motoflex_ros.structures.assembly import AssembledStructure
-from motoflex_ros.structures.components import DEFAULT_DAMPING_RATIO, ComponentModel
+from motoflex_ros.structures.component_model import DEFAULT_DAMPING_RATIO, ComponentModel
 from motoflex_ros.structures.craig_bampton import CraigBamptonModel, checked_damping_ratio
+from motoflex_ros.structures.mesh_component import mesh_component_name
 from motoflex_ros.structures.mesh_file import UNITS
 
 __all__ = ["SuperelementComponent", "SUPERELEMENT_SCHEMA", "load_superelement_component",
@@ -234,7 +235,6 @@ def _check_physical(k, m, n_clamped, files, source):
 
 def load_superelement_component(cfg, path, damping_ratio):
     """SuperelementComponent from a validated SUPERELEMENT_SCHEMA configuration."""
-    from motoflex_ros.structures.mesh_component import mesh_component_name
     source = str(path)
     spec = cfg["superelement"]
     base = Path(path).parent

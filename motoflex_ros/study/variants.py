@@ -17,10 +17,10 @@ import numpy as np
 
 from motoflex_ros.config import number_text, shown
 from motoflex_ros.errors import ConfigError, ModelError
-from motoflex_ros.identify.axis import axis_stiffness
 from motoflex_ros.identify.principal import CarriedInertia
 from motoflex_ros.identify.results import results_source
 from motoflex_ros.identify.stiffness import GAMMA_S
+from motoflex_ros.lumped_stiffness.axis import axis_stiffness
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.flexible_motorcycle import per_body_vehicle
 from motoflex_ros.vehicle.lumped import HINGE_VARIANTS, VARIANTS, FlexJoint, axis_in_vehicle
@@ -121,7 +121,7 @@ def carried_inertias(components, vehicle="touring"):
     carries in the vehicle file ``vehicle`` (a shipped name or a path): the principal hinges'
     metric in the virtual rig."""
     from motoflex_ros.config import resolve_config
-    from motoflex_ros.structures.components import load_component
+    from motoflex_ros.structures.component_loader import load_component
     from motoflex_ros.vehicle.model import load_vehicle
     loaded = [component if hasattr(component, "clamped_reduced") else load_component(component)
               for component in components]

@@ -153,7 +153,7 @@ def body_elements(component, bodies, hangs, welds=None, open_springs=(), carried
                   zeta=None):
     """The engine elements of a beam component's flexible bodies (module docstring).
 
-    component: a beam :class:`~motoflex_ros.structures.components.Component`; bodies: its
+    component: a beam :class:`~motoflex_ros.structures.component_model.Component`; bodies: its
     :func:`~motoflex_ros.structures.bodies.reduce_bodies`; hangs: {body name: (vehicle body,
     reference node name)} for every body (a one-node body without elasticity, e.g. an engine
     mount, names the vehicle body its node is on; a clamp node of that kind may be left out
