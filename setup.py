@@ -62,9 +62,11 @@ setup(
         "scale": ["dask[distributed]>=2024.1",
                   "pypardiso>=0.4.7; platform_machine == 'x86_64' or platform_machine == 'AMD64'"],
         # gmsh: a hollow tube meshed as an engineer's FE tool does (test_mesh_gmsh.py)
+        # import-linter: the layer contract in pyproject.toml (test/test_layering.py)
         # pytest-xdist: ./test.sh runs the suite on two workers (test/conftest.py groups it)
-        "test": ["pytest>=8", "ruff>=0.6", "pytest-benchmark>=4", "pillow>=10", "sympy>=1.12",
-                 "gmsh>=4.11", "pytest-xdist>=3.5", "mkdocs>=1.6", "mkdocs-material>=9.5"],
+        "test": ["pytest>=8", "ruff>=0.6", "import-linter>=2.16", "pytest-benchmark>=4",
+                 "pillow>=10", "sympy>=1.12", "gmsh>=4.11", "pytest-xdist>=3.5", "mkdocs>=1.6",
+                 "mkdocs-material>=9.5"],
     },
     zip_safe=True,
     maintainer="motoflex_ros developers",
