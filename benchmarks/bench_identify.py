@@ -18,7 +18,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 from scipy import signal  # noqa: E402
 
-from motoflex_ros.bench.campaign import run_campaign, setup_campaign  # noqa: E402
+from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign  # noqa: E402
 from motoflex_ros.bench.response import lateral_state_space  # noqa: E402
 
 COMPONENTS = ("frame", "front_assembly", "swingarm")

@@ -23,9 +23,9 @@ from pathlib import Path
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from motoflex_ros.bench.campaign import run_campaign, setup_campaign  # noqa: E402
+from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign  # noqa: E402
 from motoflex_ros.bench.plan import plan_campaign  # noqa: E402
-from motoflex_ros.study.variants import carried_inertias  # noqa: E402
+from motoflex_ros.study.identified_variants import carried_inertias  # noqa: E402
 
 COMPONENTS = ("frame", "front_assembly", "swingarm")
 

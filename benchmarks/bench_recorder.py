@@ -116,8 +116,8 @@ def _cpu_seconds(pid):
 
 
 def _campaign(tmp):
-    from motoflex_ros.bench.campaign import identify_components
-    from motoflex_ros.launcher.campaign import run_campaign_graph
+    from motoflex_ros.bench.offline_campaign import identify_components
+    from motoflex_ros.launcher.campaign_graph import run_campaign_graph
     components = ["frame", "front_assembly", "swingarm"]
     start = time.perf_counter()
     identify_components(components, seed=0)

@@ -66,7 +66,7 @@ def flexible_touring(variant="flexible"):
     """The touring motorcycle with all three components flexible: ``variant`` 'flexible' (one
     clamped superelement each) or 'flexible_bodies' (per-body superelements, issue 12)."""
     from motoflex_ros.structures.component_loader import load_component
-    from motoflex_ros.study.variants import build_variant
+    from motoflex_ros.study.identified_variants import build_variant
     from motoflex_ros.vehicle.lumped import COMPONENTS
 
     components = {name: load_component(name) for name in COMPONENTS}
@@ -75,7 +75,7 @@ def flexible_touring(variant="flexible"):
 
 
 def bench_accuracy_study():
-    from motoflex_ros.bench.campaign import identify_components
+    from motoflex_ros.bench.offline_campaign import identify_components
     from motoflex_ros.structures.component_loader import load_component
     from motoflex_ros.study.lumped_accuracy import accuracy_study
     from motoflex_ros.vehicle.lumped import COMPONENTS

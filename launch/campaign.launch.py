@@ -3,7 +3,7 @@
 ``launch`` API); with a namespace every node and topic runs under it (two rigs in one domain).
 
 Each node is started as its ``ros2 run`` executable with a parameters file written from
-:func:`motoflex_ros.launcher.campaign.campaign_specs`, so both ways run identical graphs. The
+:func:`motoflex_ros.launcher.campaign_graph.campaign_specs`, so both ways run identical graphs. The
 domain id is the caller's (set ROS_DOMAIN_ID yourself); each node keeps DDS on loopback unless
 MOTOFLEX_DDS=network or a Fast DDS profile of your own; the launch ends when the load actuator
 has played every protocol (and the vehicle simulator is done). No launcher judges the run, so
@@ -43,7 +43,7 @@ def _executable(name):
 
 
 def _graph(context):
-    from motoflex_ros.launcher.campaign import campaign_specs
+    from motoflex_ros.launcher.campaign_graph import campaign_specs
     from motoflex_ros.launcher.graph import namespace_args, node_key
     value = {k: LaunchConfiguration(k).perform(context) for k in ARGUMENTS}
     noise = float(value["noise"])

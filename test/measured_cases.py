@@ -150,7 +150,7 @@ def bench_yaml(name, q0, markers=PLATE, noise_m=5e-6, latency_s=0.0):
             f"{latency_s!r}}}\n")
 
 
-def verb_script(argv, blocked=("motoflex_ros.structures", "motoflex_ros.bench.campaign")):
+def verb_script(argv, blocked=("motoflex_ros.structures", "motoflex_ros.bench.offline_campaign")):
     """Python source that runs ``motoflex identify`` with ``argv`` (the verb registered alone:
     the ``motoflex`` parser imports every verb, the eigenvalue verb the vehicle and its
     structures) with the ``blocked`` packages made unimportable, and asserts that no

@@ -480,7 +480,7 @@ def test_failed_campaign_leaves_no_temporary_folder_and_keeps_its_logs(tmp_path,
     also on failure, when the failed run's logs are kept in its bag folder."""
     import tempfile
 
-    from motoflex_ros.launcher import campaign
+    from motoflex_ros.launcher import campaign_graph
     from motoflex_ros.launcher.run import RunFailed
     temp = tmp_path / "tmp"
     temp.mkdir()
@@ -494,11 +494,11 @@ def test_failed_campaign_leaves_no_temporary_folder_and_keeps_its_logs(tmp_path,
         raise RunFailed(f"node 'identification' died; its log: "
                         f"{Path(work_dir) / 'log' / 'identification.log'}")
 
-    monkeypatch.setattr(campaign, "run_graph", failing_run)
-    monkeypatch.setattr(campaign, "planned_run", lambda *a: (1.0, 1))
+    monkeypatch.setattr(campaign_graph, "run_graph", failing_run)
+    monkeypatch.setattr(campaign_graph, "planned_run", lambda *a: (1.0, 1))
     bag = tmp_path / "bag"
     with pytest.raises(RunFailed) as info:
-        campaign.run_campaign_graph(["tube"], bag)
+        campaign_graph.run_campaign_graph(["tube"], bag)
     assert seen and seen[0].parent == temp and seen[0].name.startswith("motoflex_campaign_")
     assert list(temp.iterdir()) == []
     kept = bag / "log" / "identification.log"

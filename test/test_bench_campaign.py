@@ -7,7 +7,7 @@ import pytest
 import yaml
 
 from motoflex_ros.bench.actuator import LoadActuator, LoadSample
-from motoflex_ros.bench.campaign import make_stages, run_campaign, setup_campaign
+from motoflex_ros.bench.offline_campaign import make_stages, run_campaign, setup_campaign
 from motoflex_ros.cli.main import main
 from motoflex_ros.identify.identifier import Identifier
 from motoflex_ros.identify.results import identify_component

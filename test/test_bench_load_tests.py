@@ -8,8 +8,13 @@ import pytest
 import scipy.sparse.linalg as spla
 import yaml
 
-from motoflex_ros.bench.campaign import only_tests, run_campaign, setup_campaign, with_sensor
 from motoflex_ros.bench.load_tests import lever_wrench, load_test
+from motoflex_ros.bench.offline_campaign import (
+    only_tests,
+    run_campaign,
+    setup_campaign,
+    with_sensor,
+)
 from motoflex_ros.bench.protocols import RoadLoadTest, load_protocol
 from motoflex_ros.cli.inputs import motorcycle_components
 from motoflex_ros.config import resolve_config

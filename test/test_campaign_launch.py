@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from motoflex_ros.launcher.campaign import campaign_specs
+from motoflex_ros.launcher.campaign_graph import campaign_specs
 
 LAUNCH_FILE = Path(__file__).resolve().parents[1] / "launch" / "campaign.launch.py"
 ALL = ["frame", "front_assembly", "swingarm"]

@@ -30,8 +30,8 @@ pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
 
 def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
-    from motoflex_ros.bench.campaign import identify_components
-    from motoflex_ros.study.variants import carried_inertias
+    from motoflex_ros.bench.offline_campaign import identify_components
+    from motoflex_ros.study.identified_variants import carried_inertias
     with DomainLock() as free:
         domain = free.domain_id
     # hold the id shared (as a namespaced run does) so that no root-namespace run takes it

@@ -18,9 +18,9 @@ from motoflex_ros.cli.campaign_summary import (
     stiffness_table,
     vehicle_table,
 )
-from motoflex_ros.launcher.campaign import CampaignOutcome
+from motoflex_ros.launcher.campaign_graph import CampaignOutcome
 from motoflex_ros.report.summary import K_SPLIT_REASON
-from motoflex_ros.structures.published import COMPONENTS, paper_table2_stiffness
+from motoflex_ros.structures.paper_tables import COMPONENTS, paper_table2_stiffness
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 

@@ -58,7 +58,7 @@ def test_campaign_bar_counts_tests_with_a_fixed_total(monkeypatch):
     pytest.importorskip("rclpy")
     from types import SimpleNamespace
 
-    from motoflex_ros.launcher.campaign import planned_run
+    from motoflex_ros.launcher.campaign_graph import planned_run
     from motoflex_ros.launcher.monitor import Monitor, _progress_bar
     duration_s, tests = planned_run(["tube"])
     assert tests >= 2 and duration_s > 0

@@ -16,8 +16,11 @@ from motoflex_ros.cli.main import main
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.structures import load_component
-from motoflex_ros.structures.published import paper_table1_eigenfrequencies, paper_table2_stiffness
-from motoflex_ros.structures.summary import summarize
+from motoflex_ros.structures.component_summary import summarize
+from motoflex_ros.structures.paper_tables import (
+    paper_table1_eigenfrequencies,
+    paper_table2_stiffness,
+)
 
 NAMES = ("frame", "front_assembly", "swingarm")
 FIRST_MODE = {"frame": "torsion", "front_assembly": "torsion", "swingarm": "bending"}

@@ -12,7 +12,7 @@ import pytest
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.structures.component_loader import load_component
-from motoflex_ros.structures.summary import REDUCED_TOLERANCE, summarize
+from motoflex_ros.structures.component_summary import REDUCED_TOLERANCE, summarize
 
 # config/components/tube.yaml
 LENGTH, SHEAR_MODULUS, DENSITY = 0.6, 8.1e10, 7850.0

@@ -11,10 +11,10 @@ records that as an expected failure with the reason, so that it is noticed if it
 import numpy as np
 import pytest
 
-from motoflex_ros.bench.campaign import identify_components
+from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
 from motoflex_ros.structures.component_loader import load_component
-from motoflex_ros.study.variants import build_variant
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.lumped import COMPONENTS
 from motoflex_ros.vehicle.model import load_vehicle

@@ -22,7 +22,7 @@ import pytest
 
 from motoflex_ros.config import config_path
 from motoflex_ros.structures import load_component
-from motoflex_ros.study.variants import build_variant
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.dynamics import build_system
 from motoflex_ros.vehicle.flexible_motorcycle import PER_BODY, per_body_vehicle
 from motoflex_ros.vehicle.linearize import linearize, linearize_at

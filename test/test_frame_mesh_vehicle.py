@@ -15,11 +15,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from motoflex_ros.bench.campaign import identify_components
+from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import config_path
 from motoflex_ros.structures.component_loader import load_component
-from motoflex_ros.study.variants import build_variant
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep

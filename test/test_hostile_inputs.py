@@ -24,7 +24,7 @@ from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError, MotoflexError
 from motoflex_ros.identify.measurements import MeasurementError, read_csv
 from motoflex_ros.launcher.status import IncompleteRun, require_complete
-from motoflex_ros.report.provenance import NOT_RECORDED, provenance_table
+from motoflex_ros.report.provenance_section import NOT_RECORDED, provenance_table
 from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.superelement_file import export_superelement
 

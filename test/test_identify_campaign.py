@@ -5,7 +5,7 @@ against the static test, the modes and the frequency response; the sweep's migra
 import numpy as np
 import pytest
 
-from motoflex_ros.bench.campaign import run_campaign, setup_campaign, with_sensor
+from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign, with_sensor
 from motoflex_ros.bench.response import harmonic_peak_motion
 from motoflex_ros.identify.decay import match_pole
 from motoflex_ros.identify.peaks import axis_of_pose, unwrap_angle

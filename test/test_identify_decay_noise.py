@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from motoflex_ros.bench.actuator import LoadActuator
-from motoflex_ros.bench.campaign import (
+from motoflex_ros.bench.offline_campaign import (
     measure_motion,
     only_tests,
     run_campaign,

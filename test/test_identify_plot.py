@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from motoflex_ros.bench.campaign import run_campaign, setup_campaign, with_sensor
+from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign, with_sensor
 from motoflex_ros.identify.peaks import unwrap_angle
 from motoflex_ros.lumped_stiffness.axis import deformation_axis
 
@@ -37,9 +37,9 @@ def test_principal_axes_drawn_beside_the_papers():
     ones, each on its own (l, beta) line."""
     import matplotlib.pyplot as plt
 
-    from motoflex_ros.bench.campaign import identify_components
+    from motoflex_ros.bench.offline_campaign import identify_components
     from motoflex_ros.plots.axes import axes_figure, axis_segment, drawn_axes
-    from motoflex_ros.study.variants import carried_inertias
+    from motoflex_ros.study.identified_variants import carried_inertias
     components, carried = carried_inertias(["swingarm"])
     setup, run = identify_components(components, noise_m=0.0, carried=carried)["swingarm"]
     result = run.identification.to_dict()

@@ -10,7 +10,7 @@ import functools
 
 import pytest
 
-from motoflex_ros.bench.campaign import run_campaign, setup_campaign
+from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign
 
 PAPER_TABLE2 = {"frame": {"k": 1.03e6, "k_t": 3.75e5, "k_b": 3.59e6},
                 "front_assembly": {"k": 1.06e4, "k_t": 5.95e3, "k_b": 1.71e5},

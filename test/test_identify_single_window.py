@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import yaml
 
-from motoflex_ros.bench.campaign import only_tests, run_campaign, setup_campaign
+from motoflex_ros.bench.offline_campaign import only_tests, run_campaign, setup_campaign
 from motoflex_ros.cli.identify import _table
 from motoflex_ros.cli.output import emit_json, to_jsonable
 from motoflex_ros.config import config_path

@@ -12,15 +12,15 @@ import math
 
 import pytest
 
-from motoflex_ros.bench.campaign import only_tests, run_campaign, setup_campaign
+from motoflex_ros.bench.offline_campaign import only_tests, run_campaign, setup_campaign
 from motoflex_ros.cli.main import main
 from motoflex_ros.cli.output import to_jsonable
 from motoflex_ros.errors import ModelError
 from motoflex_ros.identify.results import ResultsFile
 from motoflex_ros.lumped_stiffness.decomposition import decompose_stiffness, split_problem
 from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL
+from motoflex_ros.study.identified_variants import flex_joints
 from motoflex_ros.study.motorcycle import nominal_stiffness, with_stiffness
-from motoflex_ros.study.variants import flex_joints
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,12 @@ import numpy as np
 import pytest
 import yaml
 
-from motoflex_ros.bench.campaign import only_tests, run_campaign, setup_campaign, with_sensor
+from motoflex_ros.bench.offline_campaign import (
+    only_tests,
+    run_campaign,
+    setup_campaign,
+    with_sensor,
+)
 from motoflex_ros.identify.results import static_model
 
 TUBE = {"length": 0.6, "outer_diameter": 0.04, "wall_thickness": 0.002}

@@ -15,8 +15,8 @@ from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.identify.principal import principal_hinges
 from motoflex_ros.lumped_stiffness.axis import axis_stiffness
 from motoflex_ros.structures.component_loader import load_component
-from motoflex_ros.study import variants
-from motoflex_ros.study.variants import build_variant, carried_by_component
+from motoflex_ros.study import identified_variants
+from motoflex_ros.study.identified_variants import build_variant, carried_by_component
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
@@ -118,10 +118,10 @@ def test_misplaced_component_is_refused(vehicle, components):
 def test_unknown_variant_and_missing_field_are_named(vehicle, components, identified):
     _, site, _ = components["frame"]
     with pytest.raises(ConfigError, match="'variant'.*not one of"):
-        variants.flex_joints("stiff", "frame", identified, site)
+        identified_variants.flex_joints("stiff", "frame", identified, site)
     partial = {"frame": {"static": {"l": 0.3, "beta": 2.0}}}
     with pytest.raises(ConfigError, match="'frame.static.k': missing"):
-        variants.flex_joints("static", "frame", partial, site)
+        identified_variants.flex_joints("static", "frame", partial, site)
 
 
 def test_stiff_lumped_joints_converge_to_rigid_limit(vehicle, components, identified):
@@ -187,12 +187,13 @@ def test_state_of_the_art_stiffness_analytic():
     nu, m2 = modulus / (2 * shear) - 1, (d_in / d_out) ** 2
     kappa = 6 * (1 + nu) * (1 + m2) ** 2 / ((7 + 6 * nu) * (1 + m2) ** 2 + (20 + 12 * nu) * m2)
     z_axis = np.array([0.0, 0.0, 1.0])
-    moment_k = variants.state_of_the_art_stiffness(tube, z_axis)
+    moment_k = identified_variants.state_of_the_art_stiffness(tube, z_axis)
     assert moment_k == pytest.approx(modulus * inertia / length, rel=1e-6)
     y = length**3 / (3 * modulus * inertia) + length / (kappa * shear * area)
-    force_k = variants.state_of_the_art_stiffness(tube, z_axis, np.zeros(3), "lateral_force")
+    force_k = identified_variants.state_of_the_art_stiffness(tube, z_axis, np.zeros(3),
+                                                             "lateral_force")
     assert force_k == pytest.approx(length / np.arcsin(y / length), rel=1e-5)
-    assert variants.SOTA_LOAD["front_assembly"] == "lateral_force"   # Sect. 5.2.2
+    assert identified_variants.SOTA_LOAD["front_assembly"] == "lateral_force"   # Sect. 5.2.2
 
 
 @pytest.mark.parametrize("value, problem", [(None, "finite number"), (float("nan"), "finite"),
@@ -202,4 +203,4 @@ def test_bad_identified_stiffness_is_named(components, value, problem):
     _, site, _ = components["frame"]
     bad = {"frame": {"static": {"l": 0.3, "beta": 2.0, "k": value}}}
     with pytest.raises(ConfigError, match=r"'frame\.static\.k'.*" + re.escape(problem)):
-        variants.flex_joints("static", "frame", bad, site)
+        identified_variants.flex_joints("static", "frame", bad, site)

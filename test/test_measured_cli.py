@@ -29,7 +29,8 @@ def test_measured_cli_needs_no_structures(hinge_files, tmp_path):
     csv_path, bench_path, truth = hinge_files
     out = tmp_path / "out.json"
     script = verb_script(["--measured", csv_path, "--bench", bench_path, "--json", "--out",
-                          out], blocked=("motoflex_ros.structures", "motoflex_ros.bench.campaign",
+                          out], blocked=("motoflex_ros.structures",
+                                         "motoflex_ros.bench.offline_campaign",
                                          "motoflex_ros.bench.response", "motoflex_ros.bench.plan"))
     run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr

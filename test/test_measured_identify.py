@@ -126,9 +126,9 @@ def virtual(request, tmp_path_factory):
     import yaml
     from measured_cases import verb_script
 
-    from motoflex_ros.bench.campaign import setup_campaign
     from motoflex_ros.bench.export import bench_of, campaign_measurements, write_measured_csv
-    from motoflex_ros.study.variants import carried_inertias
+    from motoflex_ros.bench.offline_campaign import setup_campaign
+    from motoflex_ros.study.identified_variants import carried_inertias
     folder = tmp_path_factory.mktemp(request.param)
     components, carried = carried_inertias([request.param])
     measurements = campaign_measurements(setup_campaign(components[0],

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
 
-from motoflex_ros.bench.campaign import run_campaign, setup_campaign
+from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign
 from motoflex_ros.lumped_stiffness.axis import axis_stiffness, deformation_axis
 from motoflex_ros.structures.clamped import end_pose
 from motoflex_ros.structures.component_loader import load_component

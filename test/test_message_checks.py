@@ -89,7 +89,7 @@ def test_stamps_going_back_refused_per_topic():
 
 
 def test_load_limit_is_the_protocols_largest_load_with_margin():
-    from motoflex_ros.bench.campaign import setup_campaign
+    from motoflex_ros.bench.offline_campaign import setup_campaign
     from motoflex_ros.bench.plan import LOAD_MARGIN
     plan = setup_campaign("swingarm").plan
     largest = max(abs(t.amplitude_n) for t in plan.tests)

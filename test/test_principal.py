@@ -6,7 +6,12 @@ import numpy as np
 import pytest
 import yaml
 
-from motoflex_ros.bench.campaign import only_tests, run_campaign, setup_campaign, with_sensor
+from motoflex_ros.bench.offline_campaign import (
+    only_tests,
+    run_campaign,
+    setup_campaign,
+    with_sensor,
+)
 from motoflex_ros.bench.plan import plan_campaign
 from motoflex_ros.bench.protocols import load_protocol
 from motoflex_ros.config import config_path, load_yaml
@@ -21,7 +26,7 @@ from motoflex_ros.identify.principal import (
     unit_wrenches,
 )
 from motoflex_ros.identify.results import static_model
-from motoflex_ros.study.variants import check_principal
+from motoflex_ros.study.identified_variants import check_principal
 
 Q0 = np.array([0.45, 0.0, -0.30])          # a loaded end [m], component frame
 AMPLITUDES = {"static": 200.0, "moment_axial": 30.0, "moment_normal": 80.0}
@@ -318,7 +323,7 @@ def test_metric_is_the_carried_bodies_kinetic_energy_at_q0(component, body_names
     theta_z) of q0 (J^T diag(m, I) J summed; a sign slip in the offset terms moves the front
     assembly's bending hinge by 14 deg)."""
     from motoflex_ros.structures.component_loader import load_component
-    from motoflex_ros.study.variants import carried_by_component
+    from motoflex_ros.study.identified_variants import carried_by_component
     from motoflex_ros.vehicle import lumped
     from motoflex_ros.vehicle.model import load_vehicle
 

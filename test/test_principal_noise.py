@@ -3,18 +3,19 @@ front assembly's three quasi-static tests, each identification put into the moto
 measured against the flexible one by eq. (18).
 
 Cheap by construction: the structure is simulated once (the loads do not depend on the seed),
-each seed only re-measures the three holds (:func:`motoflex_ros.bench.campaign.measure_motion`),
-and only the front assembly's case is swept."""
+each seed only re-measures the three holds
+(:func:`motoflex_ros.bench.offline_campaign.measure_motion`), and only the front assembly's
+case is swept."""
 import numpy as np
 import pytest
 
 from motoflex_ros.bench.actuator import LoadActuator
-from motoflex_ros.bench.campaign import measure_motion, only_tests, setup_campaign
+from motoflex_ros.bench.offline_campaign import measure_motion, only_tests, setup_campaign
 from motoflex_ros.bench.response import ComponentSimulator
 from motoflex_ros.config import resolve_config
 from motoflex_ros.identify.principal import PRINCIPAL_TESTS, identify_principal
+from motoflex_ros.study.identified_variants import build_variant, carried_inertias
 from motoflex_ros.study.lumped_accuracy import QUANTITIES, flexible_reference, mode_errors
-from motoflex_ros.study.variants import build_variant, carried_inertias
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep

@@ -9,12 +9,12 @@ from motoflex_ros.cli.study import agreement
 from motoflex_ros.config import config_path
 from motoflex_ros.identify.principal import principal_hinges
 from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.study.identified_variants import build_variant, carried_by_component
 from motoflex_ros.study.motorcycle import (
     principal_factors,
     principal_study,
     with_principal_stiffness,
 )
-from motoflex_ros.study.variants import build_variant, carried_by_component
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle

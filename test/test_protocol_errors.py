@@ -5,7 +5,12 @@ import functools
 import pytest
 import yaml
 
-from motoflex_ros.bench.campaign import only_tests, run_campaign, setup_campaign, with_sensor
+from motoflex_ros.bench.offline_campaign import (
+    only_tests,
+    run_campaign,
+    setup_campaign,
+    with_sensor,
+)
 from motoflex_ros.bench.protocols import MIN_MARKER_SPREAD_M, load_protocol
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import config_path, load_yaml
@@ -17,7 +22,7 @@ BASE = load_yaml(config_path("protocols", "swingarm"))
 @functools.lru_cache(maxsize=1)
 def first_hz():
     """First torsion/bending eigenfrequency of the swingarm [Hz] (from its reduced model)."""
-    from motoflex_ros.bench.modes import clamped_modes
+    from motoflex_ros.bench.clamped_modes import clamped_modes
     from motoflex_ros.structures.component_loader import load_component
     return clamped_modes(load_component("swingarm").clamped_reduced()).first_lateral().f_hz
 

@@ -18,7 +18,7 @@ from motoflex_ros.launcher.provenance import (
     sensor_noise,
     write_provenance,
 )
-from motoflex_ros.structures.published import COMPONENTS
+from motoflex_ros.structures.paper_tables import COMPONENTS
 
 ROOT = Path(motoflex_ros.__file__).resolve().parents[1]
 
@@ -61,7 +61,7 @@ def test_provenance_noise_override_and_protocol_file():
 def test_unreadable_provenance_is_reported_not_guessed(tmp_path, text):
     (tmp_path / PROVENANCE_FILE).write_text(text)
     assert "unreadable" in read_provenance(tmp_path)
-    from motoflex_ros.report.provenance import provenance_table
+    from motoflex_ros.report.provenance_section import provenance_table
     rows = {r[0].text: r for r in provenance_table(tmp_path).rows}
     assert rows["seed"][1].text == "not recorded" and PROVENANCE_FILE in rows["seed"][2].text
     assert read_provenance(tmp_path / "missing") is None

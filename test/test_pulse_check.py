@@ -21,7 +21,7 @@ from motoflex_ros.vehicle.nonlinear_response import (
     nonlinear_steer_pulse,
     rk4_substeps,
 )
-from motoflex_ros.vehicle.response import steer_pulse_response
+from motoflex_ros.vehicle.steer_pulse import steer_pulse_response
 
 SPEED = float(kmh_to_ms(100.0))
 

@@ -17,7 +17,7 @@ import pytest
 
 from motoflex_ros.report.published import meijaard2007_eigenvalues
 from motoflex_ros.report.tables import FACTORS, INDICES, QUANTITIES, VARIANTS
-from motoflex_ros.structures.published import (
+from motoflex_ros.structures.paper_tables import (
     COMPONENTS,
     paper_table1_eigenfrequencies,
     paper_table2_stiffness,
@@ -257,9 +257,9 @@ def test_report_vehicle_source_is_the_campaigns_motorcycle(tmp_path):
     variant of the run's identified values, equal to the core's sweep of that model."""
     from motoflex_ros.cli.inputs import identification_results, motorcycle_components
     from motoflex_ros.config import resolve_config
-    from motoflex_ros.launcher.campaign import campaign_specs
+    from motoflex_ros.launcher.campaign_graph import campaign_specs
     from motoflex_ros.report.sources import SOURCES, RunData, _load_one
-    from motoflex_ros.study.variants import build_variant
+    from motoflex_ros.study.identified_variants import build_variant
     from motoflex_ros.vehicle.linearize import linearize
     from motoflex_ros.vehicle.model import load_vehicle
     from motoflex_ros.vehicle.modes import modal_sweep

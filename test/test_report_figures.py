@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from motoflex_ros.structures.published import COMPONENTS
+from motoflex_ros.structures.paper_tables import COMPONENTS
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 MIN_BAR_PX = 3.0
@@ -92,7 +92,7 @@ def test_axes_figure_styles_differ_and_texts_are_readable(name):
 
 @pytest.mark.parametrize("name", COMPONENTS)
 def test_mode_figures_are_readable_and_scaled_as_stated(name):
-    from motoflex_ros.plots.components import MODE_FRACTION, mode_drawing
+    from motoflex_ros.plots.component_figure import MODE_FRACTION, mode_drawing
     from motoflex_ros.report.figures import component_model, modes_plot
     fig = modes_plot(name)
     try:
@@ -114,7 +114,7 @@ def test_mode_figures_are_readable_and_scaled_as_stated(name):
 def test_fig8_every_bar_visible_and_named():
     """Every bar of every variant in the JSON is drawn, long enough to see, named, with its
     value written beside it horizontally in a readable size."""
-    from motoflex_ros.plots.study import accuracy_bars_figure
+    from motoflex_ros.plots.study_figures import accuracy_bars_figure
     accuracy = _example("accuracy.json")
     smallest = min(v for case in accuracy.values() for variant in case.values()
                    for v in variant.values())
@@ -147,7 +147,7 @@ def test_fig8_every_bar_visible_and_named():
 
 
 def test_fig10_texts_readable():
-    from motoflex_ros.plots.study import pearson_bars_figure
+    from motoflex_ros.plots.study_figures import pearson_bars_figure
     fig = pearson_bars_figure(_example("sensitivity.json")["pearson"])
     try:
         assert_texts_readable(fig)

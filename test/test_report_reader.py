@@ -17,11 +17,11 @@ import pytest
 import yaml
 from report_html import EXAMPLE, example_report, parse_report, png_size
 
-from motoflex_ros.launcher.campaign import VEHICLE_VARIANT
+from motoflex_ros.launcher.campaign_graph import VEHICLE_VARIANT
 from motoflex_ros.launcher.provenance import utc_stamp, write_provenance
 from motoflex_ros.report.html import CONTENT_WIDTH_PX
 from motoflex_ros.report.tables import DEVIATION_FLAG_PERCENT
-from motoflex_ros.structures.published import COMPONENTS, paper_table2_stiffness
+from motoflex_ros.structures.paper_tables import COMPONENTS, paper_table2_stiffness
 
 ARGV = ["campaign", "--out", "bags/example", "--seed", "3", "--noise", "2e-05"]
 MAX_DOWNSCALE = 1.0
@@ -78,7 +78,7 @@ def test_report_provenance_says_what_a_run_does_not_record(tmp_path):
     'not recorded', the others still come from status.json and metadata.yaml."""
     import shutil
 
-    from motoflex_ros.report.provenance import NOT_RECORDED, provenance_table
+    from motoflex_ros.report.provenance_section import NOT_RECORDED, provenance_table
     if not (EXAMPLE / "status.json").is_file():
         pytest.skip("bags/example is not in this checkout")
     old = tmp_path / "example"
@@ -155,7 +155,7 @@ def test_report_beta_in_degrees_and_defined(run):
 
 
 def test_report_mode_figures_state_their_scale(run):
-    from motoflex_ros.plots.components import MODE_FRACTION
+    from motoflex_ros.plots.component_figure import MODE_FRACTION
     _, page = run
     for c in COMPONENTS:
         caption = page.captions[f"modes_{c}"]

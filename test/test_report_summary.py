@@ -17,7 +17,7 @@ import pytest
 from report_html import EXAMPLE, example_report, parse_report
 
 from motoflex_ros.plots.labels import VARIANT_LABELS
-from motoflex_ros.structures.published import COMPONENTS, paper_table2_stiffness
+from motoflex_ros.structures.paper_tables import COMPONENTS, paper_table2_stiffness
 
 
 @pytest.fixture(scope="module")

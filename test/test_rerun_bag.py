@@ -97,7 +97,7 @@ def lumped_motorcycle(static):
     """The touring motorcycle with the frame's identified static joint (the core's model the
     vehicle_simulator builds from these results)."""
     from motoflex_ros.config import resolve_config
-    from motoflex_ros.study.variants import build_variant
+    from motoflex_ros.study.identified_variants import build_variant
     from motoflex_ros.vehicle.model import load_vehicle
     rigid = load_vehicle(resolve_config("vehicles", "touring"))
     return build_variant(rigid, "static", ["frame"], {"frame": {"static": static}},

@@ -90,7 +90,7 @@ def test_rerun_structure_follows_simulator_markers_roundtrip(replayed):
 
 def test_replayed_loaded_end_equals_simulator_markers_roundtrip(replayed):
     """In double precision, before drawing: the replay is the simulator's state to 1e-14 m."""
-    from motoflex_ros.bench.replay import recorded_samples, replayed_displacements
+    from motoflex_ros.bench.replayed_loads import recorded_samples, replayed_displacements
     bag, _ = replayed
     component = load_component("frame")
     reduced = component.clamped_reduced()
@@ -135,7 +135,7 @@ def test_replay_without_phase_labels_matches_lsim():
     discretisation of the same state space, linear input interpolation) gives the same."""
     from scipy.signal import lsim
 
-    from motoflex_ros.bench.replay import recorded_samples, replayed_displacements
+    from motoflex_ros.bench.replayed_loads import recorded_samples, replayed_displacements
     from motoflex_ros.structures.clamped import state_space
     component = load_component("frame")
     reduced = component.clamped_reduced()

@@ -134,7 +134,7 @@ def test_provenance_and_identification_name_the_inputs_hashes(tmp_path):
     and the vehicle file whose carried inertia is the principal hinges' metric, read once; the
     identification node's record of what it read is the same (no graph run: the pinning of
     campaign_inputs and the node's own setup are compared directly)."""
-    from motoflex_ros.launcher.campaign import VEHICLE, campaign_inputs
+    from motoflex_ros.launcher.campaign_graph import VEHICLE, campaign_inputs
     from motoflex_ros.nodes.bench_graph import campaign_setups
     _, pinned = campaign_inputs(["swingarm"])
     component = config_path("components", "swingarm")

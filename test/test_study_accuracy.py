@@ -8,11 +8,12 @@ import sys
 import numpy as np
 import pytest
 
-from motoflex_ros.bench.campaign import identify_components
+from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ModelError
 from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.study.accuracy import rms_error_percent
+from motoflex_ros.study.identified_variants import carried_inertias
 from motoflex_ros.study.lumped_accuracy import (
     ACCURACY_VARIANTS,
     CASES,
@@ -21,7 +22,6 @@ from motoflex_ros.study.lumped_accuracy import (
     accuracy_study,
     mode_errors,
 )
-from motoflex_ros.study.variants import carried_inertias
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.model import load_vehicle
 
@@ -263,8 +263,8 @@ def test_conditioning_is_what_the_study_prints(verb_run, identified_file):
     lumped motorcycle with that one change, built and swept by the engine as the accuracy study
     does (front assembly: the six changes)."""
     from motoflex_ros.study.fitted import PERTURBATIONS, hinge_of, perturbed, with_fitted
+    from motoflex_ros.study.identified_variants import build_variant
     from motoflex_ros.study.lumped_accuracy import _weave_wobble, flexible_reference
-    from motoflex_ros.study.variants import build_variant
     from motoflex_ros.vehicle import lumped
 
     _, _, text, components_details = verb_run

@@ -16,9 +16,9 @@ from motoflex_ros.cli.main import main
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS, config_path
 from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.study.factorial import FACTORS, PAPER_TABLE2_NOMINAL, full_factorial
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.motorcycle import with_stiffness
 from motoflex_ros.study.stability_index import stability_index
-from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep

@@ -18,8 +18,8 @@ from motoflex_ros.study.fitted import (
     with_fitted,
 )
 from motoflex_ros.study.hinge_pencil import HingePencil, hinge_second_order
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.lumped_accuracy import _weave_wobble
-from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle

@@ -14,8 +14,8 @@ from motoflex_ros.study.flexible_sensitivity import (
     modal_stiffness_update,
     scaled_motorcycle,
 )
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.sensitivity import stability_indices
-from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep

@@ -2,7 +2,11 @@
 import matplotlib.image
 import numpy as np
 
-from motoflex_ros.plots.study import plot_accuracy_bars, plot_pearson_bars, plot_stability_curves
+from motoflex_ros.plots.study_figures import (
+    plot_accuracy_bars,
+    plot_pearson_bars,
+    plot_stability_curves,
+)
 from motoflex_ros.study.factorial import FACTORS
 
 

@@ -60,7 +60,7 @@ def test_pencil_check_refuses_speed_dependent_springs_analytic(speed_dependent):
 
 @pytest.fixture(scope="module")
 def motorcycle():
-    from motoflex_ros.bench.campaign import identify_components
+    from motoflex_ros.bench.offline_campaign import identify_components
     from motoflex_ros.cli.output import to_jsonable
     from motoflex_ros.config import config_path
     from motoflex_ros.structures.component_loader import load_component
@@ -73,8 +73,8 @@ def motorcycle():
 
 
 def test_motorcycle_directions_are_those_of_A0_roundtrip(motorcycle):
+    from motoflex_ros.study.identified_variants import build_variant
     from motoflex_ros.study.motorcycle import decomposed_study, with_stiffness
-    from motoflex_ros.study.variants import build_variant
     from motoflex_ros.vehicle.linearize import linearize
     from motoflex_ros.vehicle.lumped import COMPONENTS
     vehicle, components, identified = motorcycle

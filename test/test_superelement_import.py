@@ -13,7 +13,7 @@ import sys
 import numpy as np
 import pytest
 
-from motoflex_ros.bench.campaign import run_campaign, setup_campaign, with_sensor
+from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign, with_sensor
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.structures.component_loader import load_component

@@ -10,6 +10,7 @@ import pytest
 
 from motoflex_ros.config import config_path
 from motoflex_ros.structures import load_component
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.tilt_stiffness import (
     JOINT_LINKS,
     PARTS,
@@ -18,7 +19,6 @@ from motoflex_ros.study.tilt_stiffness import (
     held_bridge,
     with_joint_link_tilt,
 )
-from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.model import load_vehicle
 
 

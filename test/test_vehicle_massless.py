@@ -95,7 +95,7 @@ def test_force_element_equals_joint_spring_roundtrip(whipple):
 def test_pulse_response_with_singular_descriptor_roundtrip(whipple, rigid):
     """A massless body that carries nothing changes nothing: the steer-pulse response of the
     bicycle with it (singular E, reduced to its regular part) equals the rigid one."""
-    from motoflex_ros.vehicle.response import steer_pulse_response
+    from motoflex_ros.vehicle.steer_pulse import steer_pulse_response
 
     data = copy.deepcopy(whipple)
     data["bodies"]["dangling"] = MASSLESS

@@ -11,7 +11,7 @@ from motoflex_ros.identify.matrix_pencil import matrix_pencil_poles, unit_peak
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep
-from motoflex_ros.vehicle.response import joint_input, steer_pulse_response
+from motoflex_ros.vehicle.steer_pulse import joint_input, steer_pulse_response
 
 DT = 0.005
 

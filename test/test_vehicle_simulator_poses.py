@@ -25,7 +25,7 @@ from motoflex_ros.nodes.vehicle_simulator import (  # noqa: E402
 from motoflex_ros.vehicle.linearize import linearize  # noqa: E402
 from motoflex_ros.vehicle.model import load_vehicle  # noqa: E402
 from motoflex_ros.vehicle.poses import world_poses  # noqa: E402
-from motoflex_ros.vehicle.response import steer_pulse_response  # noqa: E402
+from motoflex_ros.vehicle.steer_pulse import steer_pulse_response  # noqa: E402
 
 
 class KeepingPublisher:

@@ -28,9 +28,16 @@ from scipy.optimize import least_squares
 from motoflex_ros.config import load_yaml, resolve_config, validate
 from motoflex_ros.structures.assembly import Structure, rigid_body_mass
 from motoflex_ros.structures.component_model import Component
-from motoflex_ros.structures.published import paper_table1_eigenfrequencies, paper_table2_stiffness
-from motoflex_ros.structures.schema import STRUCTURE_SCHEMA, _add_members, structure_from_config
-from motoflex_ros.structures.summary import summarize
+from motoflex_ros.structures.component_schema import (
+    STRUCTURE_SCHEMA,
+    _add_members,
+    structure_from_config,
+)
+from motoflex_ros.structures.component_summary import summarize
+from motoflex_ros.structures.paper_tables import (
+    paper_table1_eigenfrequencies,
+    paper_table2_stiffness,
+)
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.superelement import rigid_field
 

@@ -1,18 +1,18 @@
 """The virtual bench's measurements as a real rig would hand them over (issue 17).
 
 :func:`campaign_measurements` runs a component's campaign exactly as
-:func:`motoflex_ros.bench.campaign.run_campaign` does (same stages, same order, same sensor noise
-for the same seed, so its identification is the virtual identification) and keeps, per sample,
-the load and the markers the emulated sensor measured for it (noise and resolution, matched to
-their sample by index: a real rig's capture time). :func:`write_measured_csv` writes them in the
-measured CSV format and :func:`bench_of` gives the matching bench file, so that ``motoflex
-identify --measured`` can identify the virtual bench without its finite-element model.
+:func:`motoflex_ros.bench.offline_campaign.run_campaign` does (same stages, same order, same sensor
+noise for the same seed, so its identification is the virtual identification) and keeps, per
+sample, the load and the markers the emulated sensor measured for it (noise and resolution, matched
+to their sample by index: a real rig's capture time). :func:`write_measured_csv` writes them in the
+measured CSV format and :func:`bench_of` gives the matching bench file, so that ``motoflex identify
+--measured`` can identify the virtual bench without its finite-element model.
 """
 from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.bench.campaign import make_stages
+from motoflex_ros.bench.offline_campaign import make_stages
 from motoflex_ros.identify.results import MODEL_TESTS, identify_component
 from motoflex_ros.spatial import rotation_from_vector
 

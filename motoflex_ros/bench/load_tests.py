@@ -5,7 +5,7 @@ assembly and the swingarm are loaded by the tyre's side force at the contact pat
 wheel radius lower, and in a wobble the component carries a whole wrench. Two quasi-static
 tests here apply such loads: the ramp and hold of the static test (the protocol's ``static``
 settings), the loaded end measured by the same marker sensor, the same stages
-(:mod:`motoflex_ros.bench.campaign`), only the load is a wrench w1 at q0 per newton of the
+(:mod:`motoflex_ros.bench.offline_campaign`), only the load is a wrench w1 at q0 per newton of the
 commanded force F:
 
 - ``road_load``: F along a unit direction d at a point r, through a rigid lever to q0:
@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from motoflex_ros.bench.actuator import LoadActuator
-from motoflex_ros.bench.campaign import measure_motion
+from motoflex_ros.bench.offline_campaign import measure_motion
 from motoflex_ros.bench.response import ComponentSimulator
 from motoflex_ros.errors import ModelError, ProtocolError
 from motoflex_ros.identify.results import AxisModel, static_model

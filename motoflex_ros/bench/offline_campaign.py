@@ -12,7 +12,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from motoflex_ros.bench.actuator import LoadActuator
-from motoflex_ros.bench.modes import clamped_modes
+from motoflex_ros.bench.clamped_modes import clamped_modes
 from motoflex_ros.bench.plan import plan_campaign
 from motoflex_ros.bench.protocols import load_protocol, protocol_for
 from motoflex_ros.bench.response import ComponentSimulator

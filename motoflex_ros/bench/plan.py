@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from motoflex_ros.bench.actuator import LATERAL_WRENCH
-from motoflex_ros.bench.modes import clamped_modes
+from motoflex_ros.bench.clamped_modes import clamped_modes
 from motoflex_ros.bench.protocols import MATCH_STATIC
 from motoflex_ros.bench.response import harmonic_peak_motion
 from motoflex_ros.errors import ProtocolError

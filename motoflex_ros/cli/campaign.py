@@ -60,7 +60,7 @@ def run(args):
         stiffness_table,
         vehicle_table,
     )
-    from motoflex_ros.launcher.campaign import (
+    from motoflex_ros.launcher.campaign_graph import (
         RESULT_FILE,
         VEHICLE_COMPONENTS,
         VEHICLE_VARIANT,

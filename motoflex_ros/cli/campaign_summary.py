@@ -19,7 +19,7 @@ def fe_static_k(components):
     """{name: k [N m/rad]} of the clamped reduced finite-element model itself (eq. 8, the
     static lateral load the bench applies), for the components given by name or YAML file;
     a component without a model is left out."""
-    from motoflex_ros.bench.replay import shipped_model
+    from motoflex_ros.bench.replayed_loads import shipped_model
     out = {}
     for spec in components:
         model = shipped_model(spec)
@@ -39,7 +39,7 @@ def _number(value):
 def stiffness_table(results, fe_k, stream=None):
     """Print identified k, k_t, k_b beside the FE model's own k and Table 2, then the reason
     for the k_t/k_b gap."""
-    from motoflex_ros.structures.published import paper_table2_stiffness
+    from motoflex_ros.structures.paper_tables import paper_table2_stiffness
     paper = paper_table2_stiffness()
     rows = []
     for name, comp in results.items():

@@ -79,7 +79,7 @@ def _fmt(x, spec):
 
 
 def _rows(summaries):
-    from motoflex_ros.structures.published import (
+    from motoflex_ros.structures.paper_tables import (
         paper_table1_eigenfrequencies,
         paper_table2_stiffness,
     )
@@ -103,8 +103,8 @@ def _rows(summaries):
 
 def run(args):
     from motoflex_ros.structures.component_loader import load_component
-    from motoflex_ros.structures.published import COMPONENTS
-    from motoflex_ros.structures.summary import summarize
+    from motoflex_ros.structures.component_summary import summarize
+    from motoflex_ros.structures.paper_tables import COMPONENTS
 
     names = args.component or list(COMPONENTS)
     components = [load_component(n) for n in names]
@@ -115,7 +115,7 @@ def run(args):
         for comp in components:
             export_superelement(comp, args.export)
     if args.plot:
-        from motoflex_ros.plots.components import plot_component
+        from motoflex_ros.plots.component_figure import plot_component
         with progress_bar(len(components), "plots", "component") as bar:
             for comp, red in zip(components, reduced):
                 plot_component(comp, red, Path(args.plot) / f"{comp.name}.png")

@@ -231,8 +231,8 @@ def run(args):
     """Run the campaign of each component; returns the exit code."""
     if args.measured:
         return run_measured(args)
-    from motoflex_ros.bench.campaign import identify_components
-    from motoflex_ros.study.variants import carried_inertias
+    from motoflex_ros.bench.offline_campaign import identify_components
+    from motoflex_ros.study.identified_variants import carried_inertias
     if args.out:
         check_new_file(args.out, args.force)
     components, carried = carried_inertias(args.component or list(DEFAULT_COMPONENTS),

@@ -25,9 +25,9 @@ def identification_results(path=None, components=COMPONENTS, seed=0, vehicle="to
     if path:
         from motoflex_ros.identify.results import load_results_file
         return load_results_file(Path(path))
-    from motoflex_ros.bench.campaign import identify_components
+    from motoflex_ros.bench.offline_campaign import identify_components
     from motoflex_ros.cli.output import progress_bar
-    from motoflex_ros.study.variants import carried_inertias
+    from motoflex_ros.study.identified_variants import carried_inertias
     print("running the bench identification ...", file=sys.stderr)
     components, carried = carried_inertias(components, vehicle)
     with progress_bar(len(components), "bench identification", "component") as bar:
@@ -106,7 +106,7 @@ def noise_argument(text):
     """Type of --noise for argparse: a sensor-noise standard deviation [m] in [0, 1e-3]."""
     import argparse
 
-    from motoflex_ros.bench.campaign import checked_noise
+    from motoflex_ros.bench.offline_campaign import checked_noise
     try:
         return checked_noise(float(text), "command line", "--noise")
     except ValueError as exc:  # ConfigError is a ValueError; so is float('abc')
@@ -130,7 +130,7 @@ def seed_argument(text):
     """Type of --seed for argparse: a seed of the sensor noise, a whole number >= 0."""
     import argparse
 
-    from motoflex_ros.bench.campaign import checked_seed
+    from motoflex_ros.bench.offline_campaign import checked_seed
     try:
         value = int(text)
     except ValueError:

@@ -2,7 +2,7 @@
 
 The core computes what is drawn (the identified motorcycle's weave, wobble and road test:
 :mod:`motoflex_ros.vehicle.animation`; the bench's replayed shapes:
-:mod:`motoflex_ros.bench.replay`); the record layer writes it (:func:`~motoflex_ros.record.
+:mod:`motoflex_ros.bench.replayed_loads`); the record layer writes it (:func:`~motoflex_ros.record.
 rerun_bag.convert_bag`).
 """
 from motoflex_ros.units import kmh_to_ms
@@ -23,7 +23,7 @@ def write_recording(bag, out=None, vehicle="touring", progress=False,
     from motoflex_ros.record.rerun_bag import convert_bag, run_identification
     motorcycle = None
     if vehicle is not None:
-        from motoflex_ros.study.variants import identified_motorcycle
+        from motoflex_ros.study.identified_variants import identified_motorcycle
         from motoflex_ros.vehicle.animation import motorcycle_motion
         model, description = identified_motorcycle(vehicle, run_identification(bag))
         motorcycle = (motorcycle_motion(model, kmh_to_ms(speed_kmh)), description)

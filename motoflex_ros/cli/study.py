@@ -136,7 +136,7 @@ def _print_tables(result, seconds, stream, unit="N m/rad"):
 
 
 def _plots(result, run_outputs, speeds, directory):
-    from motoflex_ros.plots.study import plot_pearson_bars, plot_stability_curves
+    from motoflex_ros.plots.study_figures import plot_pearson_bars, plot_stability_curves
 
     written = [plot_pearson_bars(result.pearson, Path(directory) / "fig10_pearson.png")]
     for mode in ("weave", "wobble"):

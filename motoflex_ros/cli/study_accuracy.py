@@ -175,8 +175,8 @@ def _load_speed(kmh):
 
 def run_accuracy(args):
     """``motoflex study accuracy``; returns the exit code."""
-    from motoflex_ros.plots.accuracy import plot_mode_curves
-    from motoflex_ros.plots.study import plot_accuracy_bars
+    from motoflex_ros.plots.accuracy_figure import plot_mode_curves
+    from motoflex_ros.plots.study_figures import plot_accuracy_bars
     from motoflex_ros.study.lumped_accuracy import ACCURACY_VARIANTS, CASES, accuracy_study
     from motoflex_ros.vehicle.model import load_vehicle
 

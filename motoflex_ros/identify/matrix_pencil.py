@@ -10,7 +10,7 @@ z_i = eig(pinv(V_1) V_2), V_1 / V_2 the rows of V without its last / first one, 
 s_i = ln(z_i) / dt.
 
 Used by the bench (free decay of a clamped component, :mod:`motoflex_ros.identify.decay`) and
-by the vehicle's virtual road test (steer-pulse response, :mod:`motoflex_ros.vehicle.response`).
+by the vehicle's virtual road test (steer-pulse response, :mod:`motoflex_ros.vehicle.steer_pulse`).
 """
 import numpy as np
 

@@ -120,7 +120,7 @@ def planned_run(components, noise=None, protocol=None):
     """(longest planned simulated time over the components [s] (tests may settle sooner),
     number of bench tests over all components)."""
     from motoflex_ros.bench.actuator import PAUSE_S
-    from motoflex_ros.bench.campaign import setup_campaign
+    from motoflex_ros.bench.offline_campaign import setup_campaign
     longest, tests = 0.0, 0
     for name in components:
         plan = setup_campaign(name, protocol, noise).plan
@@ -138,7 +138,7 @@ def campaign_inputs(components, noise=None, protocol=None):
     read here once, so that the nodes can be held to the same bytes."""
     from motoflex_ros.config import resolve_config
     from motoflex_ros.input_pins import recording_inputs
-    from motoflex_ros.study.variants import carried_inertias
+    from motoflex_ros.study.identified_variants import carried_inertias
     from motoflex_ros.vehicle.model import load_vehicle
     with recording_inputs() as inputs:
         planned = planned_run(components, noise, protocol)

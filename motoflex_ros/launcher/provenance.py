@@ -9,8 +9,8 @@
 each read once by the launcher and held to that hash for the whole run
 (:mod:`motoflex_ros.input_pins`). Together with status.json (how it ended) and the bag's
 metadata.yaml (its time span and ROS distribution) it is the provenance the report shows
-(:mod:`motoflex_ros.report.provenance`). A run folder without it (an older run) has no record of
-these; the report says so rather than guessing.
+(:mod:`motoflex_ros.report.provenance_section`). A run folder without it (an older run) has no
+record of these; the report says so rather than guessing.
 """
 import json
 import shlex

@@ -46,9 +46,9 @@ def campaign_setups(params, inputs=None):
     setup read (checked against the run's pins: :mod:`motoflex_ros.input_pins`)."""
     from dataclasses import replace
 
-    from motoflex_ros.bench.campaign import checked_noise, setup_campaign
+    from motoflex_ros.bench.offline_campaign import checked_noise, setup_campaign
     from motoflex_ros.input_pins import recording_inputs
-    from motoflex_ros.study.variants import carried_inertias
+    from motoflex_ros.study.identified_variants import carried_inertias
     noise = None if params["noise"] == -1.0 else checked_noise(params["noise"], "ROS parameters",
                                                                "noise")
     protocol = params["protocol"] or None

@@ -168,7 +168,7 @@ class VehicleSimulatorNode(RigNode):
         self.finished = True
 
     def _simulate(self):
-        from motoflex_ros.study.variants import build_variant
+        from motoflex_ros.study.identified_variants import build_variant
         from motoflex_ros.vehicle.linearize import linearize
         from motoflex_ros.vehicle.modes import modal_sweep
         p = self.params
@@ -193,7 +193,7 @@ class VehicleSimulatorNode(RigNode):
     def _road_test(self, lin, model, speed, bodies_rate_hz):
         from motoflex_ros.vehicle.kinematics import BASE_NAMES
         from motoflex_ros.vehicle.poses import world_poses
-        from motoflex_ros.vehicle.response import steer_pulse_response
+        from motoflex_ros.vehicle.steer_pulse import steer_pulse_response
         names = tuple(lin.state_names)
         pulse = steer_pulse_response(lin, speed, outputs=names)
         rows = body_rows(pulse.time, bodies_rate_hz)

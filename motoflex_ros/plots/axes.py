@@ -16,7 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from motoflex_ros.plots.components import write_png_atomic  # noqa: E402
+from motoflex_ros.plots.component_figure import write_png_atomic  # noqa: E402
 
 __all__ = ["axes_figure", "plot_component_axes", "plot_measured_axes", "axis_segment",
            "drawn_axes",

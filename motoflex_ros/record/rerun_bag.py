@@ -7,7 +7,7 @@ rosbags type store (no rclpy needed), then logs with :mod:`.rerun_log` and
 - /bench/<c>/load (geometry_msgs/WrenchStamped) with /bench/<c>/phase (std_msgs/String): load
   arrow and force series; with the shipped component model <c> also the beam model deformed by
   the time response of the clamped reduced model to the recorded load history, the component
-  simulator's own (:mod:`motoflex_ros.bench.replay`).
+  simulator's own (:mod:`motoflex_ros.bench.replayed_loads`).
 - /bench/<c>/pose (geometry_msgs/PoseStamped): loaded-end displacement series.
 - /bench/<c>/markers/true and /measured (geometry_msgs/PoseArray): marker points over time.
 - /identification/results (diagnostic_msgs/DiagnosticArray, one status per component and
@@ -35,7 +35,11 @@ from pathlib import Path
 import numpy as np
 import rerun as rr
 
-from motoflex_ros.bench.replay import recorded_samples, replayed_displacements, shipped_model
+from motoflex_ros.bench.replayed_loads import (
+    recorded_samples,
+    replayed_displacements,
+    shipped_model,
+)
 from motoflex_ros.files import read_json
 from motoflex_ros.frames import BENCH_SPACING_M
 from motoflex_ros.progress import progress_bar
@@ -115,7 +119,7 @@ campaign writes it when a component came from a file)."""
 
 def _model(component):
     """(Component, ReducedComponent) of a component of the bag (a shipped name, or the file the
-    bag's component_files.json names), or None (:func:`motoflex_ros.bench.replay.
+    bag's component_files.json names), or None (:func:`motoflex_ros.bench.replayed_loads.
     shipped_model`)."""
     return shipped_model(_SOURCES.get(component, component))
 

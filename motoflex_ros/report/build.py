@@ -6,14 +6,14 @@ is ever made up. Progress bars (tqdm, stderr) run over the data sources and the 
 import time
 
 from motoflex_ros.files import atomic_write_text
-from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
+from motoflex_ros.launcher.campaign_graph import VEHICLE_COMPONENTS, VEHICLE_VARIANT
 from motoflex_ros.progress import progress_bar
 from motoflex_ros.report import tables
 from motoflex_ros.report.html import Figure, Missing, Note, Section, render
-from motoflex_ros.report.provenance import provenance_table
+from motoflex_ros.report.provenance_section import provenance_table
 from motoflex_ros.report.sources import FIG9_VARIANTS, load_run_data
 from motoflex_ros.report.summary import summary_parts
-from motoflex_ros.structures.published import COMPONENTS
+from motoflex_ros.structures.paper_tables import COMPONENTS
 from motoflex_ros.vehicle.variants import variant_label
 
 __all__ = ["build_report", "SECTIONS", "REPORT_FILE"]
@@ -28,7 +28,7 @@ def _figures():
 
 
 def _components(data, files):
-    from motoflex_ros.plots.components import MODE_FRACTION
+    from motoflex_ros.plots.component_figure import MODE_FRACTION
     components = data["components"]
     parts = [tables.components_table(components), tables.table1(components)]
     for name in COMPONENTS:

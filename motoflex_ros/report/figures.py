@@ -1,6 +1,6 @@
 """Figures of the report as PNG bytes (matplotlib, Agg): components with their modes, the
 deformation axes of Figs. 5-7, the front-assembly curves of Fig. 9, and Figs. 8 and 10 through
-:mod:`motoflex_ros.plots.study`. Imported lazily by ``motoflex report``.
+:mod:`motoflex_ros.plots.study_figures`. Imported lazily by ``motoflex report``.
 """
 import functools
 import io
@@ -52,8 +52,8 @@ def _draw_beams(ax, xyz, elements, dims, **style):
 def modes_plot(name):
     """Side (x-z) and top (x-y) views of a component with its first torsion and bending modes
     (matplotlib Figure); each mode's legend entry states its scale factor
-    (:func:`motoflex_ros.plots.components.mode_drawing`)."""
-    from motoflex_ros.plots.components import mode_drawing
+    (:func:`motoflex_ros.plots.component_figure.mode_drawing`)."""
+    from motoflex_ros.plots.component_figure import mode_drawing
     component, reduced = component_model(name)
     xyz, elements = component.node_xyz, component.elements
     modes = [m for m in (mode_drawing(component, reduced, label)
@@ -126,11 +126,11 @@ def fig9_figure(variants):
 
 def fig8_figure(accuracy):
     """Fig. 8: PNG of the e_RMS bars of ``motoflex study accuracy --plot``."""
-    from motoflex_ros.plots.study import accuracy_bars_figure
+    from motoflex_ros.plots.study_figures import accuracy_bars_figure
     return png_of(accuracy_bars_figure(accuracy))
 
 
 def fig10_figure(sensitivity):
     """Fig. 10: PNG of the Pearson bars of ``motoflex study sensitivity --plot``."""
-    from motoflex_ros.plots.study import pearson_bars_figure
+    from motoflex_ros.plots.study_figures import pearson_bars_figure
     return png_of(pearson_bars_figure(sensitivity["pearson"]))

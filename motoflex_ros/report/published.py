@@ -1,6 +1,6 @@
 """Published reference values the report sets our numbers beside.
 
-Tables 1 and 2 of Passigato et al. 2023 come from :mod:`motoflex_ros.structures.published`;
+Tables 1 and 2 of Passigato et al. 2023 come from :mod:`motoflex_ros.structures.paper_tables`;
 the Whipple benchmark eigenvalues are from Meijaard, Papadopoulos, Ruina, Schwab, "Linearized
 dynamics equations for the balance and steer of a bicycle: a benchmark and review", Proc. R.
 Soc. A 463 (2007) 1955-1982 ([Meijaard 2007] in docs/references.md).

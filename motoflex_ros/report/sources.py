@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 from motoflex_ros.files import atomic_write_text, read_json
 from motoflex_ros.formats.json_yaml import json_text
-from motoflex_ros.launcher.campaign import VEHICLE_COMPONENTS, VEHICLE_VARIANT
+from motoflex_ros.launcher.campaign_graph import VEHICLE_COMPONENTS, VEHICLE_VARIANT
 from motoflex_ros.progress import progress_bar
 
 __all__ = ["Source", "SOURCES", "RunData", "load_run_data", "FIG9_VARIANTS"]

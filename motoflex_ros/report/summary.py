@@ -12,7 +12,7 @@ import numpy as np
 from motoflex_ros.launcher.status import STATUS_FILE, read_status
 from motoflex_ros.report.html import Missing, Note
 from motoflex_ros.report.tables import Cell, Table, diff_cell, json_cell, paper_cell
-from motoflex_ros.structures.published import COMPONENTS, paper_table2_stiffness
+from motoflex_ros.structures.paper_tables import COMPONENTS, paper_table2_stiffness
 from motoflex_ros.study.verdict import stability_verdict
 from motoflex_ros.units import ms_to_kmh
 from motoflex_ros.vehicle.variants import variant_label

@@ -10,7 +10,7 @@ import numpy as np
 
 from motoflex_ros.plots.labels import QUANTITY_LABELS, VARIANT_LABELS
 from motoflex_ros.report.published import meijaard2007_eigenvalues
-from motoflex_ros.structures.published import (
+from motoflex_ros.structures.paper_tables import (
     COMPONENTS,
     paper_table1_eigenfrequencies,
     paper_table2_stiffness,

@@ -2,7 +2,7 @@
 
 Reads ``config/components/*.yaml`` (validated on load with :mod:`motoflex_ros.config`) and hands
 each kind to its builder: :func:`~motoflex_ros.structures.component_model.tube_component`,
-:func:`~motoflex_ros.structures.schema.structure_from_config`,
+:func:`~motoflex_ros.structures.component_schema.structure_from_config`,
 :func:`~motoflex_ros.structures.mesh_component.load_mesh_component` and
 :func:`~motoflex_ros.structures.superelement_file.load_superelement_component`. It stands above
 all of them, so none of them imports it (no import cycle).
@@ -19,12 +19,16 @@ from motoflex_ros.structures.component_model import (
     Component,
     tube_component,
 )
+from motoflex_ros.structures.component_schema import (
+    STRUCTURE_SCHEMA,
+    TUBE_SCHEMA,
+    structure_from_config,
+)
 from motoflex_ros.structures.mesh_component import (
     MESH_SCHEMA,
     load_mesh_component,
     mesh_component_name,
 )
-from motoflex_ros.structures.schema import STRUCTURE_SCHEMA, TUBE_SCHEMA, structure_from_config
 from motoflex_ros.structures.superelement_file import (
     SUPERELEMENT_SCHEMA,
     load_superelement_component,

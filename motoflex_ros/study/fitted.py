@@ -60,8 +60,8 @@ from motoflex_ros.identify.results import ResultsFile
 from motoflex_ros.study.accuracy import rms_error_percent
 from motoflex_ros.study.continuation import continue_eigenpairs, mac, nearest_eigenpairs
 from motoflex_ros.study.hinge_pencil import HingePencil
+from motoflex_ros.study.identified_variants import GAMMA
 from motoflex_ros.study.tracked import HomotopyStart
-from motoflex_ros.study.variants import GAMMA
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.modes import modal_sweep
@@ -250,7 +250,8 @@ class HingeFitProblem:
 
     Parameters
     ----------
-    vehicle, components, identified : as :func:`motoflex_ros.study.variants.build_variant`
+    vehicle, components, identified
+        As :func:`motoflex_ros.study.identified_variants.build_variant`.
     names : sequence of str
         The components with a fitted hinge (the others rigid, as in the accuracy study).
     reference : mapping

@@ -21,6 +21,7 @@ import numpy as np
 
 from motoflex_ros.errors import ModelError
 from motoflex_ros.study.factorial import FACTOR_DESCRIPTIONS, FACTORS
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.motorcycle import MotorcycleStudy, _mode_targets
 from motoflex_ros.study.tracked import (
     HomotopyStart,
@@ -28,7 +29,6 @@ from motoflex_ros.study.tracked import (
     TrackedModeStudy,
     check_pencil,
 )
-from motoflex_ros.study.variants import build_variant
 from motoflex_ros.study.vehicle_load import carried_element
 from motoflex_ros.vehicle.dynamics import build_system
 from motoflex_ros.vehicle.linearize import linearize, linearize_at

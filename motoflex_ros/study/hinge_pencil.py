@@ -43,7 +43,7 @@ import numpy as np
 
 from motoflex_ros.errors import ModelError
 from motoflex_ros.spatial import skew
-from motoflex_ros.study.variants import GAMMA, build_variant
+from motoflex_ros.study.identified_variants import GAMMA, build_variant
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.dynamics import build_system, residual
 from motoflex_ros.vehicle.linearize import linearize
@@ -120,8 +120,8 @@ class HingePencil:
     vehicle : VehicleModel
         The rigid motorcycle.
     components, identified : mappings
-        As :func:`motoflex_ros.study.variants.build_variant` (the static variant is built to
-        fix the inertia distribution and the hinge's place in the tree).
+        As :func:`motoflex_ros.study.identified_variants.build_variant` (the static variant is
+        built to fix the inertia distribution and the hinge's place in the tree).
     names : sequence of str
         The flexible components.
 

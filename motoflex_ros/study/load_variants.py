@@ -11,12 +11,13 @@ loads the component (beyond the paper; the tests are :mod:`motoflex_ros.bench.lo
   (:mod:`motoflex_ros.study.vehicle_load`).
 
 Each gives {l, beta, b, k, c} under its name in a copy of the identification results, which
-:func:`motoflex_ros.study.variants.build_variant` turns into a single hinge as the static one.
+:func:`motoflex_ros.study.identified_variants.build_variant` turns into a single hinge as the
+static one.
 """
 import numpy as np
 
-from motoflex_ros.bench.campaign import setup_campaign
 from motoflex_ros.bench.load_tests import lever_wrench, load_test
+from motoflex_ros.bench.offline_campaign import setup_campaign
 from motoflex_ros.errors import ModelError
 from motoflex_ros.identify.results import ResultsFile
 from motoflex_ros.study.vehicle_load import mode_wrench

@@ -26,17 +26,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from motoflex_ros.bench.campaign import setup_campaign
+from motoflex_ros.bench.offline_campaign import setup_campaign
 from motoflex_ros.errors import ModelError
 from motoflex_ros.study.accuracy import rms_error_percent
 from motoflex_ros.study.fitted import fit_hinges, hinge_of, with_fitted
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.load_variants import (
     VEHICLE_LOAD_SPEED,
     road_load_tests,
     vehicle_load_tests,
     with_load_tests,
 )
-from motoflex_ros.study.variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.lumped import COMPONENTS
 from motoflex_ros.vehicle.modes import modal_sweep

@@ -58,7 +58,7 @@ def nominal_stiffness(identified):
     ConfigError for a missing value; ModelError naming the component when its eq. (12) split
     is not identifiable (flagged, or not a positive finite number).
     """
-    from motoflex_ros.study.variants import check_split_identifiable
+    from motoflex_ros.study.identified_variants import check_split_identifiable
     nominal = {}
     for factor in FACTORS:
         component, key = FACTOR_KEYS[factor]
@@ -108,7 +108,7 @@ def principal_factors(identified):
 
     ModelError naming the component when its principal hinges are not identified.
     """
-    from motoflex_ros.study.variants import check_principal
+    from motoflex_ros.study.identified_variants import check_principal
     from motoflex_ros.vehicle.lumped import COMPONENTS
     letters = {"frame": "f", "front_assembly": "a", "swingarm": "s"}
     out = {}
@@ -143,7 +143,7 @@ def with_principal_stiffness(identified, values, factors):
 
 def _lumped_study(vehicle, components, speeds, variant, nominal, results_of):
     """The pencil study of a lumped variant whose stiffnesses are the factors."""
-    from motoflex_ros.study.variants import build_variant
+    from motoflex_ros.study.identified_variants import build_variant
     from motoflex_ros.vehicle.dynamics import build_system
     from motoflex_ros.vehicle.linearize import linearize, linearize_at
     from motoflex_ros.vehicle.lumped import COMPONENTS

@@ -35,7 +35,7 @@ import numpy as np
 
 from motoflex_ros.structures import load_component
 from motoflex_ros.structures.bodies import assemble_bodies, reduce_bodies
-from motoflex_ros.study.variants import build_variant
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.modes import modal_sweep
 

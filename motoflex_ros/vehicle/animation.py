@@ -7,7 +7,7 @@ coordinates q:
 - modes: q(phi) = Re(s q_c e^{i phi}), q_c the eigenvector's coordinates (coordinates that are
   states directly; cyclic ones, y and yaw, from their rates as q = q'/lambda), scaled by s so
   the largest joint or attitude angle is :data:`MODE_AMPLITUDE_RAD` [rad].
-- road test: the steer-torque pulse response (:func:`~motoflex_ros.vehicle.response.
+- road test: the steer-torque pulse response (:func:`~motoflex_ros.vehicle.steer_pulse.
   steer_pulse_response`) scaled so the largest angle is :data:`ROAD_AMPLITUDE_RAD` (a larger
   pulse, the response being linear), in the world frame with the path and heading integrated
   by the core (:func:`motoflex_ros.vehicle.poses.world_poses`), as the vehicle_simulator node
@@ -120,7 +120,7 @@ def road_test(lin, speed):
     """RoadTest: the steer-pulse response at ``speed`` [m/s], poses scaled so that the largest
     angle is :data:`ROAD_AMPLITUDE_RAD`."""
     from motoflex_ros.vehicle.poses import world_poses
-    from motoflex_ros.vehicle.response import steer_pulse_response
+    from motoflex_ros.vehicle.steer_pulse import steer_pulse_response
     names = tuple(lin.state_names)
     pulse = steer_pulse_response(lin, speed, outputs=names)
     n_angles = len(lin.system.indep_pos)          # roll and the joint angles

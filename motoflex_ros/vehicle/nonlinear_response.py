@@ -25,7 +25,7 @@ import scipy.linalg
 from motoflex_ros.errors import ModelError
 from motoflex_ros.vehicle.dynamics import constraint_matrix, positions, residual
 from motoflex_ros.vehicle.linearize import is_singular
-from motoflex_ros.vehicle.response import PulseResponse, pulse_output_names
+from motoflex_ros.vehicle.steer_pulse import PulseResponse, pulse_output_names
 
 __all__ = ["nonlinear_steer_pulse", "rk4_substeps", "POSITION_NEWTON_STEPS", "XDOT_RTOL",
            "XDOT_ATOL", "REFRESH_AFTER", "RK4_RATE_LIMIT"]
@@ -113,7 +113,7 @@ def nonlinear_steer_pulse(system, speed, torque=20.0, duration=0.05, t_end=1.5, 
         the eigenvalues read back from the response is about |lambda| (|lambda| h)^4 / 120
         (fourth order): 0.1 % of wobble's real part at 100 km/h and h = 0.01 s.
     outputs : sequence of str, optional
-        State names to return; default as :func:`~motoflex_ros.vehicle.response.
+        State names to return; default as :func:`~motoflex_ros.vehicle.steer_pulse.
         steer_pulse_response` (steer angle [rad], roll rate [rad/s], yaw rate [rad/s]).
 
     Returns

@@ -1,7 +1,7 @@
 """Poses of the vehicle's bodies along a response, in a world frame ('odom'-like, REP-103).
 
 A response of the linearized vehicle (e.g. the steer-torque pulse of
-:mod:`motoflex_ros.vehicle.response`) gives the states x(t): the non-cyclic coordinates (roll,
+:mod:`motoflex_ros.vehicle.steer_pulse`) gives the states x(t): the non-cyclic coordinates (roll,
 joint angles), the independent speeds and tyre states. The cyclic coordinates are not states.
 Their rates are: on tyres the lateral velocity v_y and the yaw rate r of the base are states;
 with knife-edge wheels they are dependent speeds that the rolling constraints give from x (for

@@ -1,7 +1,7 @@
 """The motorcycle variants' names and the flexible ground truth (superelements in place).
 
 The variants themselves are built from identification results one layer up
-(:func:`motoflex_ros.study.variants.build_variant`): the vehicle takes lumped parameters
+(:func:`motoflex_ros.study.identified_variants.build_variant`): the vehicle takes lumped parameters
 (:class:`~motoflex_ros.vehicle.lumped.FlexJoint`) and superelements, it does not read
 identification results.
 """
