@@ -11,7 +11,7 @@ import scipy.linalg as sla
 import yaml
 
 from motoflex_ros.errors import ConfigError, ModelError
-from motoflex_ros.structures.clamped import eigenspaces, modal_damping
+from motoflex_ros.structures.clamped import eigenspaces, modal_damping_matrix
 from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.craig_bampton import checked_damping_ratio
 
@@ -105,7 +105,7 @@ def test_modal_damping_does_not_depend_on_the_basis_of_an_eigenspace():
     phi = q / np.sqrt(np.diag(mass))[:, None]            # M^-1/2 Q: M-orthonormal
     stiffness = mass @ phi @ np.diag(omega2) @ phi.T @ mass
     zeta = [0.02, 0.02, 0.05, 0.01]
-    got = modal_damping(mass, stiffness, zeta)
+    got = modal_damping_matrix(mass, stiffness, zeta)
     angle = 0.7
     rot = np.eye(4)
     rot[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]

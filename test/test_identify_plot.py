@@ -9,10 +9,10 @@ from motoflex_ros.lumped_stiffness.axis import deformation_axis
 
 def test_axis_segment_roundtrip():
     """A segment drawn for (l, beta) lies on the axis that eqs. (3)-(6) identify."""
-    from motoflex_ros.plots.axes import axis_segment
+    from motoflex_ros.plots.axes import axis_segment_xz
     q0 = np.array([-0.6, 0.0, -0.045])
     for l, beta in [(0.23, 1.54), (-2.9, 2.87), (0.4, 0.05)]:
-        p, r = axis_segment(l, beta, q0, 0.7)
+        p, r = axis_segment_xz(l, beta, q0, 0.7)
         direction = (r - p) / np.linalg.norm(r - p)
         n = np.array([-direction[1], 0.0, direction[0]])  # normal of the axis in x-z
         tilt = 1e-6
@@ -38,7 +38,7 @@ def test_principal_axes_drawn_beside_the_papers():
     import matplotlib.pyplot as plt
 
     from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.plots.axes import axes_figure, axis_segment, drawn_axes
+    from motoflex_ros.plots.axes import axes_figure, axis_segment_xz, drawn_axes
     from motoflex_ros.study.identified_variants import carried_inertias
     components, carried = carried_inertias(["swingarm"])
     setup, run = identify_components(components, noise_m=0.0, carried=carried)["swingarm"]
@@ -50,7 +50,7 @@ def test_principal_axes_drawn_beside_the_papers():
         lines = {line.get_label().split(" axis")[0]: line for line in fig.axes[0].lines}
         for name in ("principal 1", "principal 2"):
             hinge = drawn[name]
-            seg = axis_segment(hinge["l"], hinge["beta"], setup.reduced.q0, 1.0)
+            seg = axis_segment_xz(hinge["l"], hinge["beta"], setup.reduced.q0, 1.0)
             xs, zs = lines[name].get_data()
             direction = (seg[1] - seg[0]) / np.linalg.norm(seg[1] - seg[0])
             for x, z in zip(xs, zs):   # the drawn points lie on the hinge's line

@@ -10,4 +10,11 @@
   readings out).
 - :mod:`.results`: ``identify_component`` (readings -> static/torsion/bending models, k_t,
   k_b, sweep, modal data) and the JSON/YAML shape the vehicle side reads.
+
+- :mod:`.axis_model`: the identified model or axis: values, 95 % intervals, counts.
+- :mod:`.matrix_pencil`: poles of a multi-channel free response.
+- :mod:`.principal`: principal hinges in series from the out-of-plane end compliance.
+- :mod:`.measurements`, :mod:`.bench_file`, :mod:`.segmentation`, :mod:`.measured`: a real
+  rig's load and marker streams (CSV), its bench file, the tests found in its load history,
+  and their identification.
 """

@@ -5,4 +5,5 @@ with them, the identification fits them to the bench's measurements.
 
 - :mod:`.axis` eqs. (1)-(8): deformation axis (l, beta, b) and k from a pose of the loaded end.
 - :mod:`.decomposition` eqs. (12a)-(12b): k_t, k_b.
+- :mod:`.axis_line`: the drawn segment of an identified axis (l, beta) in 3-D.
 """

@@ -3,7 +3,7 @@ import numpy as np
 
 from motoflex_ros.lumped_stiffness.axis import DeformationAxis, axis_in_plane
 
-__all__ = ["axis_from_l_beta", "axis_segment"]
+__all__ = ["axis_from_l_beta", "axis_segment_xyz"]
 
 
 def axis_from_l_beta(l, beta, q0):
@@ -17,7 +17,7 @@ def axis_from_l_beta(l, beta, q0):
                            x_j=float(l * q0[0] / length), z_j=float(l * q0[2] / length))
 
 
-def axis_segment(l, beta, q0, half_length=None):
+def axis_segment_xyz(l, beta, q0, half_length=None):
     """End points (2, 3) [m] of the axis drawn ``half_length`` (default |q0|) about the joint."""
     q0 = np.asarray(q0, float)
     half = half_length or float(np.hypot(q0[0], q0[2]))

@@ -1,2 +1,8 @@
 """Figures (matplotlib, Agg backend). Imported lazily by the CLI verbs; the core never imports
-this package."""
+this package.
+
+Modules: ``axes`` (Figs. 5-7: deformation axes in the x-z plane), ``component_figure`` (a
+clamped component and its first modes), ``accuracy_figure`` (Fig. 9), ``study_figures``
+(Figs. 4, 8, 10), ``vehicle`` (root locus, weave/wobble over speed), ``labels`` (names of
+variants and quantities, no matplotlib).
+"""

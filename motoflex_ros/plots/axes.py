@@ -18,7 +18,7 @@ import numpy as np  # noqa: E402
 
 from motoflex_ros.plots.component_figure import write_png_atomic  # noqa: E402
 
-__all__ = ["axes_figure", "plot_component_axes", "plot_measured_axes", "axis_segment",
+__all__ = ["axes_figure", "plot_component_axes", "plot_measured_axes", "axis_segment_xz",
            "drawn_axes",
            "AXIS_STYLES", "SWEEP_CMAP"]
 
@@ -32,7 +32,7 @@ AXIS_STYLES = {"static": {"color": "#1f77b4", "ls": "-", "lw": 2.5},
 SWEEP_CMAP = "Greys"
 
 
-def axis_segment(l, beta, q0, half_length):
+def axis_segment_xz(l, beta, q0, half_length):
     """Two points (x, z) [m] of the axis (l, beta) of a component with loaded end q0."""
     theta0 = np.arctan2(q0[2], q0[0])
     joint = l * np.array([np.cos(theta0), np.sin(theta0)])
@@ -61,7 +61,7 @@ def _sweep(fig, ax, sweep, q0, half):
     norm = matplotlib.colors.Normalize(freqs.min() - 0.3 * np.ptp(freqs) - 1e-9, freqs.max())
     cmap = plt.get_cmap(SWEEP_CMAP)
     for i, point in enumerate(sweep):
-        seg = axis_segment(point["l"], point["beta"], q0, half)
+        seg = axis_segment_xz(point["l"], point["beta"], q0, half)
         ax.plot(seg[:, 0], seg[:, 1], color=cmap(norm(freqs[i])), lw=0.8, zorder=2,
                 label=(f"sweep axes: {len(sweep)} harmonic tests, {freqs.min():.0f}-"
                        f"{freqs.max():.0f} Hz") if i == len(sweep) - 1 else None)
@@ -89,7 +89,7 @@ def _axes(fig, ax, identified, q0, half):
         m = drawn.get(name)
         if m is None:   # a measured record without that test
             continue
-        seg = axis_segment(m["l"], m["beta"], q0, half)
+        seg = axis_segment_xz(m["l"], m["beta"], q0, half)
         at = f" at {m['f_hz']:.1f} Hz" if "f_hz" in m else ""
         k = f", k = {m['k']:.3g} N m/rad" if name.startswith("principal") else ""
         ax.plot(seg[:, 0], seg[:, 1], zorder=3,
@@ -101,7 +101,7 @@ def _limits(xyz, identified, q0):
     length = float(np.linalg.norm(q0))
     points = [xyz[:, [0, 2]]]
     for m in drawn_axes(identified).values():
-        behind, ahead = axis_segment(m["l"], m["beta"], q0, 1.0)
+        behind, ahead = axis_segment_xz(m["l"], m["beta"], q0, 1.0)
         joint, direction = (behind + ahead) / 2.0, (ahead - behind) / 2.0
         foot = joint + np.dot(q0[[0, 2]] - joint, direction) * direction
         points.append(foot[None, :])  # the axis' point nearest to q0, |b| away from it

@@ -39,7 +39,7 @@ import numpy as np
 import rerun as rr
 
 from motoflex_ros.files import check_output_path
-from motoflex_ros.lumped_stiffness.axis_line import axis_from_l_beta, axis_segment
+from motoflex_ros.lumped_stiffness.axis_line import axis_from_l_beta, axis_segment_xyz
 
 __all__ = ["TIMELINE", "RunRecording", "log_component_frame",
            "log_structure", "log_structure_model", "log_load", "log_axis", "log_sweep_axes",
@@ -270,7 +270,7 @@ def log_axis(rec, component, test, l, beta, q0, half_length=None):
     axis = axis_from_l_beta(l, beta, q0)
     color = AXIS_COLORS.get(test, (200, 200, 200))
     path = f"/bench/{component}/axes/{test}"
-    segment = axis_segment(l, beta, q0, half_length)
+    segment = axis_segment_xyz(l, beta, q0, half_length)
     rec.log(path, rr.LineStrips3D([segment], colors=color, radii=0.004), static=True)
     along, lift = AXIS_LABEL_PLACES.get(test, (1.0, 0.0))
     place = (segment[0] + segment[1]) / 2 + along * (segment[1] - segment[0]) / 2
@@ -289,7 +289,7 @@ joints, and the static and bending axes can be almost parallel)."""
 
 def log_sweep_axes(rec, component, frequencies_hz, ls, betas, q0, half_length=None):
     """Axes of the harmonic sweep (Figs. 5-7, thin black lines): one strip per frequency."""
-    strips = [axis_segment(l, b, q0, half_length) for l, b in zip(ls, betas)]
+    strips = [axis_segment_xyz(l, b, q0, half_length) for l, b in zip(ls, betas)]
     rec.log(f"/bench/{component}/axes/sweep",
             rr.LineStrips3D(strips, colors=(20, 20, 20), radii=0.0015), static=True)
     rec.log(f"/bench/{component}/axes/sweep/frequencies", rr.TextDocument(

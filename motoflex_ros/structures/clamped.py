@@ -16,7 +16,7 @@ from motoflex_ros.errors import ModelError
 from motoflex_ros.lumped_stiffness.axis import axis_stiffness, deformation_axis
 from motoflex_ros.spatial import skew
 
-__all__ = ["ReducedComponent", "StaticResult", "label_mode", "end_pose", "modal_damping",
+__all__ = ["ReducedComponent", "StaticResult", "label_mode", "end_pose", "modal_damping_matrix",
            "state_space", "reduce_clamped", "end_share", "eigenspaces", "DEGENERATE_RTOL",
            "check_one_ratio_per_eigenspace", "clamped_frequencies"]
 
@@ -131,7 +131,7 @@ def clamped_frequencies(M, K):
     return np.sqrt(np.maximum(sla.eigh(K, M, eigvals_only=True), 0.0))
 
 
-def modal_damping(M, K, zeta):
+def modal_damping_matrix(M, K, zeta):
     """Damping matrix giving mode i of (M, K) the ratio zeta_i [N s/m..].
 
     C = M Phi diag(2 zeta_i omega_i) Phi^T M with Phi mass-normalised (Phi^T M Phi = 1), modes
@@ -277,7 +277,7 @@ def reduce_clamped(name, cb, keep, end_dofs, q0, expand):
     ``keep`` are reduced-coordinate indices kept (free boundary DOFs then all modal ones);
     ``expand`` (sparse) maps full-model DOFs to all node DOFs. Every mode of the clamped
     reduced model gets the Craig-Bampton model's damping ratio ``cb.zeta`` (one for all, or one
-    per mode in ascending frequency: :func:`modal_damping`).
+    per mode in ascending frequency: :func:`modal_damping_matrix`).
     """
     m = cb.M[np.ix_(keep, keep)]
     k = cb.K[np.ix_(keep, keep)]
@@ -287,7 +287,7 @@ def reduce_clamped(name, cb, keep, end_dofs, q0, expand):
     labels = tuple(label_mode(phi[end_dofs, j], q0,
                               end_share(transform @ phi[:, j], phi[end_dofs, j], q0))
                    for j in range(len(freq)))
-    return ReducedComponent(name=name, M=m, K=k, C=modal_damping(m, k, cb.zeta),
+    return ReducedComponent(name=name, M=m, K=k, C=modal_damping_matrix(m, k, cb.zeta),
                             end_dofs=np.asarray(end_dofs), q0=np.asarray(q0, float),
                             frequencies_hz=freq, mode_labels=labels, mode_shapes=phi,
                             transform=transform, n_modes=cb.n_modes)

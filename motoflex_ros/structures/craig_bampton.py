@@ -14,8 +14,8 @@ constraint modes (all boundary columns in one solve) and the shift-invert eigsh 
 OPinv = K_ii^-1); it is freed before the reduced matrices are formed. The reduction carries no
 damping matrix, only the ratio zeta (one for all modes, or one per mode): the clamped reduced
 model gives each of its own modes its ratio
-(:func:`motoflex_ros.structures.clamped.modal_damping`), which damping on the fixed-interface
-modes alone would not (the loaded end's boundary DOFs would stay undamped).
+(:func:`motoflex_ros.structures.clamped.modal_damping_matrix`), which damping on the
+fixed-interface modes alone would not (the loaded end's boundary DOFs would stay undamped).
 """
 from dataclasses import dataclass
 

@@ -5,4 +5,11 @@ stability_index (eqs. 13-15), factorial (designs), anova, correlation (eqs. 16-1
 functions from state matrices or linear stiffness pencils), runner (in process or on Dask),
 sensitivity (the analysis of Sect. 5.3) and motorcycle (that study on the engine's decomposed
 lumped motorcycle). Submodules are imported explicitly; this package imports nothing heavy.
+
+Also: identified_variants (the paper's lumped variants from identification results),
+load_variants (hinges from vehicle-like bench loads), vehicle_load (the wrench a component
+carries in a mode), fitted and hinge_pencil (a hinge fitted to the flexible motorcycle),
+lumped_accuracy (Sect. 5.2), flexible_sensitivity and tilt_stiffness (sensitivities of the
+flexible motorcycle), pulse_check (eigenvalues checked in the time domain), verdict (the
+least-damped point of each mode).
 """

@@ -9,7 +9,7 @@ Modules (vector helpers: :mod:`motoflex_ros.spatial`): ``model`` (dataclasses an
 data), ``schema`` (YAML validation), ``kinematics`` (tree kinematics), ``contact`` (rolling
 contact on the toroidal tyre), ``tyre`` (linear and Magic Formula tyres), ``dynamics`` (Kane
 residual), ``linearize`` (complex-step linearization, speed polynomial), ``modes`` (MAC tracking
-of weave/wobble/capsize), ``response`` (steer-pulse response), ``superelement`` (Craig-Bampton
+of weave/wobble/capsize), ``steer_pulse`` (steer-pulse response), ``superelement`` (Craig-Bampton
 superelements with one or several ends, bushings), ``flexible_bodies`` (a beam component as the
 paper's flexible bodies: per-body superelements, bushings, spherical links, clamp welds),
 ``flexible_motorcycle`` (the touring motorcycle's per-body map: its flexible bodies joined by
@@ -30,4 +30,9 @@ Variants edit the model, never the engine: bodies (massless ones too), joints an
 plain frozen dataclasses (dataclasses.replace), and ``VehicleModel.elements`` takes force
 elements whose ``generalized_residual(system, frames, q, u, udot)`` is added to the equations
 of motion (superelement stiffness, damping and inertia coupling on joint or modal coordinates).
+
+Also: ``loops`` (closed loops as constraints), ``lumped`` (the paper's lumped variants as edits
+of one description), ``variants`` (variant names, the flexible ground truth),
+``nonlinear_response`` (the nonlinear road test), ``poses`` (body poses
+along a response), ``animation`` (mode shapes and road test as poses for viewers).
 """
