@@ -176,8 +176,6 @@ def atomic_write_text(path, text):
 
 def atomic_save_figure(fig, path, dpi=120):
     """Save a matplotlib figure as PNG atomically (rendered in memory first); returns the path."""
-    import io
-
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=dpi)
     return atomic_write_bytes(path, buffer.getvalue())

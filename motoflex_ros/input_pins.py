@@ -18,6 +18,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.files import atomic_write_text
 
 __all__ = ["InputChanged", "PINS_ENV", "read_input", "note_input", "recording_inputs",
            "sha256_bytes", "sha256_file", "check_pins", "load_pins", "write_pins"]
@@ -73,7 +74,6 @@ def load_pins(env=None):
 
 def write_pins(path, pins):
     """Write the pins {absolute path: SHA-256} as JSON to ``path``; returns the path."""
-    from motoflex_ros.files import atomic_write_text
     return atomic_write_text(path, json.dumps(pins, indent=1, sort_keys=True) + "\n")
 
 

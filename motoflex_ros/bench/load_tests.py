@@ -28,6 +28,7 @@ import numpy as np
 
 from motoflex_ros.bench.actuator import LoadActuator
 from motoflex_ros.bench.offline_campaign import measure_motion
+from motoflex_ros.bench.plan import MAX_ROTATION_RAD
 from motoflex_ros.bench.response import ComponentSimulator
 from motoflex_ros.errors import ModelError, ProtocolError
 from motoflex_ros.identify.results import AxisModel, static_model
@@ -92,7 +93,6 @@ def load_test(setup, wrench, name, force_n=None, seed=0):
     the deflection is too small or too large to read (k not positive, rotation beyond the
     bench's linear range).
     """
-    from motoflex_ros.bench.plan import MAX_ROTATION_RAD
 
     wrench = np.asarray(wrench, float)
     if wrench.shape != (6,) or not np.all(np.isfinite(wrench)) or not np.any(wrench):

@@ -23,7 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from motoflex_ros.bench.actuator import LATERAL_WRENCH, LoadSample, wrench_amplitude
+from motoflex_ros.bench.response import ComponentSimulator
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.structures import load_component
 
 __all__ = ["ReplayedLoads", "recorded_samples", "replayed_displacements", "shipped_model"]
 
@@ -41,7 +44,6 @@ class ReplayedLoads:
 
 def _labelled(phases, loads):
     """LoadSamples from phase labels (JSON) paired by order with (t_ns, load); or None."""
-    from motoflex_ros.bench.actuator import LATERAL_WRENCH, LoadSample, wrench_amplitude
     labels = [d for d in (json.loads(p) for p in phases) if "end_ns" not in d]
     if not labels or len(labels) != len(loads):
         return None
@@ -57,7 +59,6 @@ def _labelled(phases, loads):
 
 def _from_stamps(loads):
     """LoadSamples of one test from rest, first-order hold between the load stamps."""
-    from motoflex_ros.bench.actuator import LoadSample
     times = np.array([t_ns for t_ns, _ in loads], float) / NS_PER_S
     steps = np.diff(times, prepend=times[0])
     forces = [float(load) if np.ndim(load) == 0 else float(load[1]) for _, load in loads]
@@ -94,7 +95,6 @@ def replayed_displacements(reduced, samples, picks):
     the LoadSamples of :func:`recorded_samples`; ``picks`` ascending sample indices. The state
     is stepped through every sample (the response depends on the whole history).
     """
-    from motoflex_ros.bench.response import ComponentSimulator
     simulator = ComponentSimulator(reduced)
     wanted = {int(k): j for j, k in enumerate(picks)}
     out = np.zeros((len(wanted), len(reduced.transform) // 6, 3))
@@ -110,7 +110,6 @@ def shipped_model(component):
     """(Component, ReducedComponent) of a shipped component name or a component YAML file (the
     clamped reduced model the component simulator integrates), or None when there is none."""
     try:
-        from motoflex_ros.structures import load_component
         comp = load_component(component)
         return comp, comp.clamped_reduced()
     except (MotoflexError, OSError, KeyError, ValueError):

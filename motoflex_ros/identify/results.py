@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from motoflex_ros.config import load_yaml
 from motoflex_ros.errors import ConfigError, ProtocolError
 from motoflex_ros.identify.axis_model import AxisModel
 from motoflex_ros.identify.decay import match_pole
@@ -50,7 +51,6 @@ class ResultsFile(dict):
 def load_results_file(path, components=()):
     """ResultsFile of a YAML/JSON file of ``motoflex identify --out``; ConfigError naming the
     file when it is missing, not YAML/JSON, not a mapping or lacks one of ``components``."""
-    from motoflex_ros.config import load_yaml
     data = load_yaml(path)
     if not isinstance(data, dict):
         raise ConfigError(path, "", "expected a mapping {component: results}")

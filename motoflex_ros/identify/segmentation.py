@@ -34,6 +34,7 @@ from motoflex_ros.identify.measurements import (
     MeasurementError,
     interval_context,
 )
+from motoflex_ros.identify.results import MEASURED_KEY, RESULT_KEYS
 
 __all__ = ["Segment", "find_tests", "load_noise", "load_threshold", "fit_sinusoid",
            "LOAD_NOISE_FACTOR", "LOAD_FLOOR", "QUIET_MIN_FRAMES", "QUIET_MIN_S", "MIN_HOLD",
@@ -335,7 +336,6 @@ def _labelled(t, force, a, b, name, threshold, noise):
 
 def _check_label(name, frame, source):
     """MeasurementError for a test label that is a key of the results (ci, modal, ...)."""
-    from motoflex_ros.identify.results import MEASURED_KEY, RESULT_KEYS
     if name in RESULT_KEYS + (MEASURED_KEY,):
         raise MeasurementError(source, f"'{name}' is a key of the results, not a test name "
                                        f"(not allowed: {', '.join(RESULT_KEYS + (MEASURED_KEY,))}"

@@ -10,6 +10,8 @@ the colour bar); beyond the paper, the principal hinges (purple dotted, brown da
 along O-q0 and makes the angle beta with O-q0 (eqs. 5-6); the legend gives l [m] and beta [deg]
 of each (the JSON holds beta in rad).
 """
+from types import SimpleNamespace
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -149,7 +151,6 @@ def plot_component_axes(component, identified, path):
 def plot_measured_axes(name, q0, identified, path):
     """The axes plot of an identification of measurements (no structure to draw: the line
     from the clamp at O to the loaded end q0 [m])."""
-    from types import SimpleNamespace
     q0 = np.asarray(q0, float)
     bench = SimpleNamespace(name=name, q0=q0, node_xyz=np.array([np.zeros(3), q0]),
                             elements=[(0, 1)], clamp_xyz=np.zeros((1, 3)))

@@ -12,13 +12,15 @@ Used by :mod:`.rerun_bag`. Decodes (rosbags message objects):
   which names its model); /vehicle/eigenvalues/model says which was logged.
 """
 import json
+from dataclasses import replace
 
 import numpy as np
 import rerun as rr
 from scipy.spatial.transform import Rotation
 
+from motoflex_ros.frames import VEHICLE_FRAME
 from motoflex_ros.record import rerun_vehicle as rv
-from motoflex_ros.record.rerun_motorcycle import posed_body_geometry
+from motoflex_ros.record.rerun_motorcycle import log_motorcycle, posed_body_geometry
 from motoflex_ros.units import kmh_to_ms
 from motoflex_ros.vehicle.variants import variant_label
 
@@ -73,7 +75,6 @@ def body_names(grouped, count):
     """Names of the ``count`` poses of /vehicle/bodies: the child frames vehicle/<body> the
     bag's /tf gives them (the same order: :func:`motoflex_ros.frames.vehicle_transforms`), or
     body0, body1, ... for a bag without them."""
-    from motoflex_ros.frames import VEHICLE_FRAME
     prefix = VEHICLE_FRAME + "/"
     for _, message in grouped.get("/tf", []):
         children = [t.child_frame_id for t in message.transforms
@@ -205,9 +206,7 @@ def log_vehicle_model(rec, motorcycle, road_test, joint_axes, sim_span_s=None):
     """The motorcycle from the vehicle engine: ``motorcycle`` = (MotorcycleMotion,
     description) computed by the caller (:mod:`motoflex_ros.vehicle.animation`); without the
     road test or the joint axes when the bag has them."""
-    from dataclasses import replace
 
-    from motoflex_ros.record.rerun_motorcycle import log_motorcycle
     motion, description = motorcycle
     log_motorcycle(rec, motion if road_test else replace(motion, road=None),
                    joint_axes=joint_axes, sim_span_s=sim_span_s)

@@ -15,6 +15,7 @@ from motoflex_ros.files import atomic_write_text, read_json
 from motoflex_ros.formats.json_yaml import json_text
 from motoflex_ros.launcher.campaign_graph import VEHICLE_COMPONENTS, VEHICLE_VARIANT
 from motoflex_ros.progress import progress_bar
+from motoflex_ros.report.run_folder import RUN_RESULT, is_recorded_run
 
 __all__ = ["Source", "SOURCES", "RunData", "load_run_data", "FIG9_VARIANTS"]
 
@@ -111,7 +112,6 @@ def _not_the_runs(folder, source):
     """Why ``source`` may not be computed for ``folder`` (None if it may): a recorded run
     without its own identification.json gets no identification made up offline, neither the
     identification itself nor anything built of it (issue 23, point 8)."""
-    from motoflex_ros.report.run_folder import RUN_RESULT, is_recorded_run
     uses_identification = source.name == "identify" or IDENTIFIED in source.args
     if uses_identification and is_recorded_run(folder) and not (folder / RUN_RESULT).is_file():
         return (f"the run recorded no {RUN_RESULT}; an identification computed now would not "

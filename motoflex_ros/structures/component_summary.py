@@ -10,6 +10,7 @@ import numpy as np
 
 from motoflex_ros.errors import ModelError
 from motoflex_ros.lumped_stiffness.decomposition import decompose_stiffness
+from motoflex_ros.structures.full_model import full_clamped_modes
 
 __all__ = ["ComponentSummary", "summarize", "reduced_model_warnings", "REDUCED_TOLERANCE"]
 
@@ -97,7 +98,6 @@ def reduced_model_warnings(name, n_modes, reduced_hz, full_hz):
 def summarize(component, reduced=None, force=100.0):
     """ComponentSummary of a Component (reduced with the default Craig-Bampton settings), with
     the full clamped model's frequencies beside the reduced model's."""
-    from motoflex_ros.structures.full_model import full_clamped_modes
     red = reduced if reduced is not None else component.clamped_reduced()
     full = full_clamped_modes(component)
     labels = ("torsion", "bending")

@@ -15,15 +15,17 @@ identification, structures and vehicle meet; the vehicle itself only takes lumpe
 """
 import numpy as np
 
-from motoflex_ros.config import number_text, shown
-from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.config import number_text, resolve_config, shown
+from motoflex_ros.errors import ConfigError, ModelError, MotoflexError
 from motoflex_ros.identify.principal import CarriedInertia
 from motoflex_ros.identify.results import results_source
 from motoflex_ros.identify.stiffness import GAMMA_S
 from motoflex_ros.lumped_stiffness.axis import axis_stiffness
+from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.flexible_motorcycle import per_body_vehicle
 from motoflex_ros.vehicle.lumped import HINGE_VARIANTS, VARIANTS, FlexJoint, axis_in_vehicle
+from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.superelement import superelement_of
 from motoflex_ros.vehicle.variants import FLEX_CHOICES, FLEXIBLE, flexible_vehicle
 
@@ -120,9 +122,6 @@ def carried_inertias(components, vehicle="touring"):
     Components) loaded, and what the loaded end of each motorcycle component among them
     carries in the vehicle file ``vehicle`` (a shipped name or a path): the principal hinges'
     metric in the virtual rig."""
-    from motoflex_ros.config import resolve_config
-    from motoflex_ros.structures.component_loader import load_component
-    from motoflex_ros.vehicle.model import load_vehicle
     loaded = [component if hasattr(component, "clamped_reduced") else load_component(component)
               for component in components]
     placed = {c.name: c for c in loaded if c.name in lumped.CARRIED}
@@ -249,10 +248,6 @@ def identified_motorcycle(vehicle="touring", identified=None):
     """(VehicleModel, description): the lumped 'static' variant of all components identified in
     ``identified`` (identify-format dict) when it can be built, else the rigid ``vehicle``
     (a shipped name or a YAML file)."""
-    from motoflex_ros.config import resolve_config
-    from motoflex_ros.errors import MotoflexError
-    from motoflex_ros.structures import load_component
-    from motoflex_ros.vehicle.model import load_vehicle
     rigid = load_vehicle(resolve_config("vehicles", vehicle))
     names = [n for n in lumped.COMPONENTS if n in (identified or {})]
     if not names:

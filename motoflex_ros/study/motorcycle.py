@@ -26,8 +26,17 @@ from motoflex_ros.errors import ConfigError, ModelError
 from motoflex_ros.identify.measured import label_axis
 from motoflex_ros.identify.results import ResultsFile, results_source
 from motoflex_ros.study.factorial import FACTOR_DESCRIPTIONS, FACTORS
+from motoflex_ros.study.identified_variants import (
+    build_variant,
+    check_principal,
+    check_split_identifiable,
+)
 from motoflex_ros.study.tracked import pencil_study
 from motoflex_ros.units import ms_to_kmh
+from motoflex_ros.vehicle.dynamics import build_system
+from motoflex_ros.vehicle.linearize import linearize, linearize_at
+from motoflex_ros.vehicle.lumped import COMPONENTS
+from motoflex_ros.vehicle.modes import modal_sweep
 
 __all__ = ["FACTOR_KEYS", "DIRECTION_SPEED", "MotorcycleStudy", "nominal_stiffness",
            "with_stiffness", "decomposed_study", "principal_factors", "with_principal_stiffness",
@@ -58,7 +67,6 @@ def nominal_stiffness(identified):
     ConfigError for a missing value; ModelError naming the component when its eq. (12) split
     is not identifiable (flagged, or not a positive finite number).
     """
-    from motoflex_ros.study.identified_variants import check_split_identifiable
     nominal = {}
     for factor in FACTORS:
         component, key = FACTOR_KEYS[factor]
@@ -108,8 +116,6 @@ def principal_factors(identified):
 
     ModelError naming the component when its principal hinges are not identified.
     """
-    from motoflex_ros.study.identified_variants import check_principal
-    from motoflex_ros.vehicle.lumped import COMPONENTS
     letters = {"frame": "f", "front_assembly": "a", "swingarm": "s"}
     out = {}
     for component in COMPONENTS:
@@ -143,11 +149,6 @@ def with_principal_stiffness(identified, values, factors):
 
 def _lumped_study(vehicle, components, speeds, variant, nominal, results_of):
     """The pencil study of a lumped variant whose stiffnesses are the factors."""
-    from motoflex_ros.study.identified_variants import build_variant
-    from motoflex_ros.vehicle.dynamics import build_system
-    from motoflex_ros.vehicle.linearize import linearize, linearize_at
-    from motoflex_ros.vehicle.lumped import COMPONENTS
-    from motoflex_ros.vehicle.modes import modal_sweep
 
     def model(values):
         return build_variant(vehicle, variant, list(COMPONENTS), results_of(values), components)

@@ -18,6 +18,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from motoflex_ros.units import kmh_to_ms
+from motoflex_ros.vehicle.linearize import linearize
+from motoflex_ros.vehicle.modes import eigen_decomposition, modal_sweep
+from motoflex_ros.vehicle.poses import frame_poses, world_poses
+from motoflex_ros.vehicle.steer_pulse import steer_pulse_response
 
 __all__ = ["ModeMotion", "RoadTest", "MotorcycleMotion", "motorcycle_motion",
            "mode_coordinates", "mode_rows", "road_test", "MODE_AMPLITUDE_RAD",
@@ -86,7 +90,6 @@ def _coordinate_map(lin, values):
 
 def mode_coordinates(lin, speed, eigenvalue):
     """Complex coordinates q_c (n,) of the eigenvector nearest ``eigenvalue`` at ``speed``."""
-    from motoflex_ros.vehicle.modes import eigen_decomposition
     values, vectors = eigen_decomposition(lin, [speed])
     index = int(np.nanargmin(np.abs(values[0] - eigenvalue)))
     lam, vector = values[0][index], vectors[0][:, index]
@@ -119,8 +122,6 @@ def mode_rows(lin, speed, eigenvalue):
 def road_test(lin, speed):
     """RoadTest: the steer-pulse response at ``speed`` [m/s], poses scaled so that the largest
     angle is :data:`ROAD_AMPLITUDE_RAD`."""
-    from motoflex_ros.vehicle.poses import world_poses
-    from motoflex_ros.vehicle.steer_pulse import steer_pulse_response
     names = tuple(lin.state_names)
     pulse = steer_pulse_response(lin, speed, outputs=names)
     n_angles = len(lin.system.indep_pos)          # roll and the joint angles
@@ -138,9 +139,6 @@ def motorcycle_motion(model, speed_mps=DEFAULT_SPEED_MPS, modes=None, road=True)
     ``modes``: {name: eigenvalue at speed_mps [1/s]}; by default weave and wobble from the
     engine's own modal sweep (a mode not found there is left out). ``road``: with the road test.
     """
-    from motoflex_ros.vehicle.linearize import linearize
-    from motoflex_ros.vehicle.modes import modal_sweep
-    from motoflex_ros.vehicle.poses import frame_poses
     lin = linearize(model)
     if modes is None:
         sweep = modal_sweep(lin, np.array([speed_mps]))
