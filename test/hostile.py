@@ -14,7 +14,7 @@ def write_rig(folder):
     --measured`` takes about a second on it."""
     from measured_cases import bench_yaml, cantilever_record
 
-    from motoflex_ros.identify.measurements import write_csv
+    from motoflex_ros.formats.measured_csv import write_csv
     t, wrench, points, _, q0 = cantilever_record(noise_m=5e-6)
     write_csv(folder / "rig.csv", t, wrench, points)
     (folder / "bench.yaml").write_text(bench_yaml("rig", q0, "from_data"))

@@ -22,7 +22,8 @@ from scipy.io import mmread, mmwrite
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError, MotoflexError
-from motoflex_ros.identify.measurements import MeasurementError, read_csv
+from motoflex_ros.formats.measured_csv import read_csv
+from motoflex_ros.identify.measurements import MeasurementError
 from motoflex_ros.launcher.status import IncompleteRun, require_complete
 from motoflex_ros.report.provenance_section import NOT_RECORDED, provenance_table
 from motoflex_ros.structures.component_loader import load_component

@@ -18,9 +18,9 @@ import pytest
 import yaml
 from measured_cases import bench_yaml, hinge_record, verb_script
 
+from motoflex_ros.formats.measured_csv import read_csv, write_csv
 from motoflex_ros.identify.bench_file import load_bench
 from motoflex_ros.identify.measured import identify_measured
-from motoflex_ros.identify.measurements import read_csv, write_csv
 from motoflex_ros.record.measured_bag import POINT, POSE, POSE_ARRAY, read_bag, write_bag
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"

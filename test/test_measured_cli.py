@@ -10,7 +10,7 @@ import pytest
 from measured_cases import PLATE, bench_yaml, cantilever_record, hinge_record, verb_script
 
 from motoflex_ros.cli.main import main
-from motoflex_ros.identify.measurements import write_csv
+from motoflex_ros.formats.measured_csv import write_csv
 
 
 @pytest.fixture()

@@ -16,9 +16,9 @@ import pytest
 from measured_cases import PLATE, bench_yaml, cantilever_record, compliance_record, hinge_record
 
 from motoflex_ros.formats.json_yaml import to_jsonable
+from motoflex_ros.formats.measured_csv import read_csv, write_csv
 from motoflex_ros.identify.bench_file import load_bench
 from motoflex_ros.identify.measured import identify_measured
-from motoflex_ros.identify.measurements import read_csv, write_csv
 
 KEYS = ("l", "beta", "b", "k")
 
@@ -126,8 +126,9 @@ def virtual(request, tmp_path_factory):
     import yaml
     from measured_cases import verb_script
 
-    from motoflex_ros.bench.export import bench_of, campaign_measurements, write_measured_csv
+    from motoflex_ros.bench.export import bench_of, campaign_measurements
     from motoflex_ros.bench.offline_campaign import setup_campaign
+    from motoflex_ros.formats.measured_csv import write_measured_csv
     from motoflex_ros.study.identified_variants import carried_inertias
     folder = tmp_path_factory.mktemp(request.param)
     components, carried = carried_inertias([request.param])
@@ -212,7 +213,8 @@ def test_labelled_moment_tests_give_the_same_principal_hinges(virtual, tmp_path)
     gives the principal hinges of the unlabelled one (same holds: same numbers)."""
     import yaml
 
-    from motoflex_ros.bench.export import bench_of, write_measured_csv
+    from motoflex_ros.bench.export import bench_of
+    from motoflex_ros.formats.measured_csv import write_measured_csv
     from motoflex_ros.identify.measured import identify_measured
     measurements, result = virtual
     write_measured_csv(tmp_path / "labelled.csv", measurements, labels=True)

@@ -4,9 +4,10 @@
 :func:`motoflex_ros.bench.offline_campaign.run_campaign` does (same stages, same order, same sensor
 noise for the same seed, so its identification is the virtual identification) and keeps, per
 sample, the load and the markers the emulated sensor measured for it (noise and resolution, matched
-to their sample by index: a real rig's capture time). :func:`write_measured_csv` writes them in the
-measured CSV format and :func:`bench_of` gives the matching bench file, so that ``motoflex identify
---measured`` can identify the virtual bench without its finite-element model.
+to their sample by index: a real rig's capture time).
+:func:`motoflex_ros.formats.measured_csv.write_measured_csv` writes them in the measured CSV format
+and :func:`bench_of` gives the matching bench file, so that ``motoflex identify --measured`` can
+identify the virtual bench without its finite-element model.
 """
 from dataclasses import dataclass
 
@@ -16,7 +17,7 @@ from motoflex_ros.bench.offline_campaign import make_stages
 from motoflex_ros.identify.results import MODEL_TESTS, identify_component
 from motoflex_ros.spatial import rotation_from_vector
 
-__all__ = ["CampaignMeasurements", "campaign_measurements", "write_measured_csv", "bench_of"]
+__all__ = ["CampaignMeasurements", "campaign_measurements", "bench_of"]
 
 
 @dataclass(frozen=True)
@@ -66,13 +67,6 @@ def campaign_measurements(setup, seed=0):
                                 tuple(s.test for s in samples), result, q0,
                                 np.asarray(setup.protocol.sensor.markers, float),
                                 setup.protocol.sensor.noise_m, setup.carried)
-
-
-def write_measured_csv(path, measurements, labels=False):
-    """Write CampaignMeasurements as a measured CSV (test labels only with ``labels``)."""
-    from motoflex_ros.identify.measurements import write_csv
-    return write_csv(path, measurements.t, measurements.wrench, measurements.markers,
-                     measurements.tests if labels else None)
 
 
 def bench_of(name, measurements, markers="offsets", latency_s=0.0):

@@ -178,7 +178,7 @@ def _measured_inputs(args):
     if path.is_dir():
         from motoflex_ros.record.measured_bag import read_bag
         return read_bag(path, bench, args.load_topic, args.markers_topic), bench
-    from motoflex_ros.identify.measurements import read_csv
+    from motoflex_ros.formats.measured_csv import read_csv
     return read_csv(path, bench.latency_s), bench
 
 
