@@ -32,7 +32,7 @@ from motoflex_ros.identify.measurements import (
     marker_columns,
     synchronise,
 )
-from motoflex_ros.limits import check_limit
+from motoflex_ros.limits import check_limit, limit
 
 __all__ = ["CSV_HEAD", "read_csv", "write_csv", "write_measured_csv", "MAX_CSV_BYTES",
            "MAX_CSV_LINE", "MAX_MARKERS"]
@@ -115,7 +115,6 @@ def _data_rows(reader, header, source):
     """(values (n, width - 1) floats without the label column, labels, n) of the data rows,
     parsed as they are read: the row count is checked against the 'samples' limit at every
     row, so a file of millions of rows is refused when its first row past the limit is read."""
-    from motoflex_ros.limits import limit
     width, allowed = len(header), limit("samples")
     values, labels, blank = array("d"), [], None
     for index, row in enumerate(reader, start=1):

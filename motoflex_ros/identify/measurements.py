@@ -15,6 +15,7 @@ The CSV file of a real rig is read and written in
 :class:`MeasurementError` naming the file, the row and the column.
 """
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -132,7 +133,6 @@ def typical_intervals(t):
 def interval_context(t):
     """Per interval of the stamps t (n,) [s]: its length and the medians of the four intervals
     before and of the four after it (its own length where there are none); three (n - 1,)."""
-    import warnings
     dt = np.diff(np.asarray(t, float))
     if len(dt) == 0:
         return dt, dt, dt

@@ -13,6 +13,8 @@ from pathlib import Path
 
 from rerun.chunk import RrdReader
 
+from motoflex_ros.record.rerun_private import private_rerun_env
+
 __all__ = ["entity_rows", "scalar_values", "component_rows", "verify_text", "rerun_executable",
            "recordings", "BlueprintView", "blueprint_views", "query_entities"]
 
@@ -84,7 +86,6 @@ def rerun_executable():
 
 def verify_text(rrd_path):
     """Output of ``rerun rrd verify``: exit 0 alone is not enough (0 files also exit 0)."""
-    from motoflex_ros.record.rerun_private import private_rerun_env
     rerun = rerun_executable()
     with private_rerun_env(rerun) as env:
         result = subprocess.run([rerun, "rrd", "verify", str(rrd_path)], capture_output=True,

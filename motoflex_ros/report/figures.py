@@ -11,7 +11,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from motoflex_ros.plots.axes import axes_figure as component_axes_figure
+from motoflex_ros.plots.component_figure import mode_drawing
 from motoflex_ros.plots.labels import VARIANT_LABELS  # noqa: E402
+from motoflex_ros.plots.study_figures import accuracy_bars_figure, pearson_bars_figure
+from motoflex_ros.structures import load_component
 from motoflex_ros.units import ms_to_kmh  # noqa: E402
 
 __all__ = ["png_of", "component_modes_figure", "axes_figure", "fig9_figure", "fig8_figure",
@@ -39,7 +43,6 @@ def png_of(fig):
 @functools.cache
 def component_model(name):
     """(Component, ReducedComponent) of a shipped component (built once per process)."""
-    from motoflex_ros.structures import load_component
     component = load_component(name)
     return component, component.clamped_reduced()
 
@@ -53,7 +56,6 @@ def modes_plot(name):
     """Side (x-z) and top (x-y) views of a component with its first torsion and bending modes
     (matplotlib Figure); each mode's legend entry states its scale factor
     (:func:`motoflex_ros.plots.component_figure.mode_drawing`)."""
-    from motoflex_ros.plots.component_figure import mode_drawing
     component, reduced = component_model(name)
     xyz, elements = component.node_xyz, component.elements
     modes = [m for m in (mode_drawing(component, reduced, label)
@@ -93,8 +95,7 @@ def component_modes_figure(name):
 def axes_figure(name, identified):
     """Figs. 5-7: PNG of :func:`motoflex_ros.plots.axes.axes_figure`, the figure
     ``motoflex identify --plot`` writes."""
-    from motoflex_ros.plots.axes import axes_figure as plot
-    return png_of(plot(component_model(name)[0], identified))
+    return png_of(component_axes_figure(component_model(name)[0], identified))
 
 
 def _mode_curve(eig, mode):
@@ -126,11 +127,9 @@ def fig9_figure(variants):
 
 def fig8_figure(accuracy):
     """Fig. 8: PNG of the e_RMS bars of ``motoflex study accuracy --plot``."""
-    from motoflex_ros.plots.study_figures import accuracy_bars_figure
     return png_of(accuracy_bars_figure(accuracy))
 
 
 def fig10_figure(sensitivity):
     """Fig. 10: PNG of the Pearson bars of ``motoflex study sensitivity --plot``."""
-    from motoflex_ros.plots.study_figures import pearson_bars_figure
     return png_of(pearson_bars_figure(sensitivity["pearson"]))

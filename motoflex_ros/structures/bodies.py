@@ -23,6 +23,7 @@ constraint modes span it); the frequencies converge from above as modes are adde
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 
 from motoflex_ros.errors import ModelError
@@ -77,7 +78,6 @@ class BodyAssembly:
 
     def frequencies_hz(self):
         """Natural frequencies [Hz], ascending."""
-        import scipy.linalg as sla
         w2 = sla.eigh(self.K, self.M, eigvals_only=True)
         return np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi)
 

@@ -20,6 +20,7 @@ fixed-interface modes alone would not (the loaded end's boundary DOFs would stay
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -80,7 +81,6 @@ def fixed_interface_modes(k_ii, m_ii, factor, n_modes, f_max_hz):
     if n_modes <= 0 or n_int == 0:
         return np.zeros(0), np.zeros((n_int, 0))
     if n_modes >= n_int - 1 or n_int < 200:
-        import scipy.linalg as sla
         w2, phi = sla.eigh(k_ii.toarray(), m_ii.toarray())
     else:
         # a fixed start vector makes ARPACK, and so the reduced model, the same in every process
