@@ -27,6 +27,17 @@ def rms_error_percent(lumped, flexible, axis=-1):
     array (...)
         e_RMS% per batch entry; inf where the flexible mean is zero.
 
+    Examples
+    --------
+    A lumped curve 0.1 Hz above a flexible one whose mean is 2 Hz is off by 5 %; one that is
+    0.1 Hz off with alternating sign is off by the same:
+
+    >>> flexible = [1.0, 2.0, 3.0]
+    >>> round(float(rms_error_percent([1.1, 2.1, 3.1], flexible)), 9)
+    5.0
+    >>> round(float(rms_error_percent([0.9, 2.1, 2.9], flexible)), 9)
+    5.0
+
     """
     lumped = np.asarray(lumped, dtype=float)
     flexible = np.asarray(flexible, dtype=float)
