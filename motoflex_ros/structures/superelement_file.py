@@ -36,7 +36,12 @@ from motoflex_ros.files import atomic_write_bytes, atomic_write_text, missing_fi
 from motoflex_ros.input_pins import read_input
 from motoflex_ros.structures.assembly import AssembledStructure
 from motoflex_ros.structures.components import DEFAULT_DAMPING_RATIO, ComponentModel
-from motoflex_ros.structures.craig_bampton import CraigBamptonModel, checked_damping_ratio
+from motoflex_ros.structures.craig_bampton import (
+    F_MAX_HZ,
+    N_MODES,
+    CraigBamptonModel,
+    checked_damping_ratio,
+)
 from motoflex_ros.structures.mesh_file import UNITS
 
 __all__ = ["SuperelementComponent", "SUPERELEMENT_SCHEMA", "load_superelement_component",
@@ -106,7 +111,7 @@ class SuperelementComponent(ComponentModel):
         return AssembledStructure(K=sp.csc_matrix(self.K), M=sp.csc_matrix(self.M),
                                   expand=expand, free_index=np.arange(nb))
 
-    def craig_bampton(self, n_modes=20, f_max_hz=600.0, zeta=None):
+    def craig_bampton(self, n_modes=N_MODES, f_max_hz=F_MAX_HZ, zeta=None):
         """The superelement's own reduction (``n_modes`` and ``f_max_hz`` do not apply: its
         generalized coordinates are what the FE tool kept). Returns (CraigBamptonModel,
         AssembledStructure)."""
@@ -290,7 +295,7 @@ def validate_superelement_config(data, path):
     return validate(data, SUPERELEMENT_SCHEMA, path)
 
 
-def export_superelement(component, directory, n_modes=20, f_max_hz=600.0):
+def export_superelement(component, directory, n_modes=N_MODES, f_max_hz=F_MAX_HZ):
     """Write ``component``'s Craig-Bampton model as a superelement: ``<name>_K.mtx``,
     ``<name>_M.mtx`` (Matrix Market, 17 digits) and ``<name>.yaml`` in ``directory``; returns
     the YAML's path. The interface nodes are named as in the component (node<i> otherwise)."""

@@ -8,7 +8,11 @@ import numpy as np
 
 from motoflex_ros.errors import ModelError
 
-__all__ = ["rms_error_percent"]
+__all__ = ["QUANTITIES", "rms_error_percent"]
+
+QUANTITIES = ("weave_f", "weave_re", "wobble_f", "wobble_re")
+"""The quantities whose e_RMS% the studies report (Fig. 8): frequency [Hz] and real part [1/s]
+of weave and of wobble."""
 
 
 def rms_error_percent(lumped, flexible, axis=-1):

@@ -57,7 +57,7 @@ import scipy.optimize
 
 from motoflex_ros.errors import ModelError
 from motoflex_ros.identify.results import ResultsFile
-from motoflex_ros.study.accuracy import rms_error_percent
+from motoflex_ros.study.accuracy import QUANTITIES, rms_error_percent
 from motoflex_ros.study.continuation import continue_eigenpairs, mac, nearest_eigenpairs
 from motoflex_ros.study.hinge_pencil import HingePencil
 from motoflex_ros.study.tracked import HomotopyStart
@@ -68,10 +68,9 @@ from motoflex_ros.vehicle.modes import modal_sweep
 
 __all__ = ["Hinge", "HingeFit", "HingeFitProblem", "fit_hinges", "with_fitted", "objective_of",
            "hinge_of", "hinge_line", "hinge_from_line", "static_hinge", "perturbed",
-           "PERTURBATIONS", "STEPS", "FIT_QUANTITIES", "TIE_BREAK", "end_compliance",
+           "PERTURBATIONS", "STEPS", "TIE_BREAK", "end_compliance",
            "hinge_compliance", "fit_under_compliance"]
 
-FIT_QUANTITIES = ("weave_f", "weave_re", "wobble_f", "wobble_re")
 STEPS = {"beta": math.radians(2.0), "b": 0.01, "log_k": 0.1}
 """Scales of the simplex variables: 2 deg, 1 cm, 10 % of k (``space`` 'line': beta, b, ln k;
 'compliance': the compliance vector, module docstring)."""
@@ -375,7 +374,7 @@ class HingeFitProblem:
         """[{quantity: e_RMS%}] of each run (list of {component: Hinge}) on ``grid``."""
         reference = {m: c[self._grid] for m, c in self.reference.items()}
         table = _errors(self.curves(runs), reference)
-        return [{q: float(table[q][r]) for q in FIT_QUANTITIES} for r in range(len(runs))]
+        return [{q: float(table[q][r]) for q in QUANTITIES} for r in range(len(runs))]
 
     # -- the simplex variables --------------------------------------------------------------
     def variables(self, hinges):
@@ -424,7 +423,7 @@ class HingeFitProblem:
                   & (np.min(result.step_mac, axis=(1, 2)) >= 0.5))
             table = _errors({"weave": result.eigenvalues[:, :, 0],
                              "wobble": result.eigenvalues[:, :, 1]}, reference)
-            j = np.sqrt(sum(table[q] ** 2 for q in FIT_QUANTITIES))
+            j = np.sqrt(sum(table[q] ** 2 for q in QUANTITIES))
             values[start:start + len(part)] = np.where(ok, j, np.inf)
         return values
 
@@ -471,7 +470,7 @@ class HingeFitProblem:
                              "over speed")
         lam = result.eigenvalues
         table = _errors({"weave": lam[:, :, 0], "wobble": lam[:, :, 1]}, reference)
-        return {q: float(table[q][0]) for q in FIT_QUANTITIES}
+        return {q: float(table[q][0]) for q in QUANTITIES}
 
     def conditioning(self, hinges):
         """{component: {label: {quantity: e_RMS%}}} around ``hinges`` (PERTURBATIONS)."""
@@ -542,7 +541,7 @@ def _coarse_index(n, step):
 
 def objective_of(errors):
     """The fit's objective [%]: root of the sum of the squared e_RMS% of the four quantities."""
-    return math.sqrt(sum(errors[q] ** 2 for q in FIT_QUANTITIES))
+    return math.sqrt(sum(errors[q] ** 2 for q in QUANTITIES))
 
 
 def _simplex_search(problem, x0, first_step, xatol, fatol, limit, restarts):

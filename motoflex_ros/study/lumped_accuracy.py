@@ -28,7 +28,7 @@ import numpy as np
 
 from motoflex_ros.bench.campaign import setup_campaign
 from motoflex_ros.errors import ModelError
-from motoflex_ros.study.accuracy import rms_error_percent
+from motoflex_ros.study.accuracy import QUANTITIES, rms_error_percent
 from motoflex_ros.study.fitted import fit_hinges, hinge_of, with_fitted
 from motoflex_ros.study.load_variants import (
     VEHICLE_LOAD_SPEED,
@@ -47,7 +47,6 @@ __all__ = ["CASES", "ACCURACY_VARIANTS", "PAPER_VARIANTS", "QUANTITIES", "Accura
 CASES = COMPONENTS + ("all",)
 PAPER_VARIANTS = ("state_of_the_art", "static", "torsion", "bending")
 ACCURACY_VARIANTS = PAPER_VARIANTS + ("principal", "fitted", "road_load", "vehicle_load")
-QUANTITIES = ("weave_f", "weave_re", "wobble_f", "wobble_re")
 
 
 @dataclass(frozen=True, eq=False)
