@@ -262,7 +262,9 @@ def test_conditioning_is_what_the_study_prints(verb_run, identified_file):
     """The conditioning the verb prints is that of --details, and each entry is eq. 18 of the
     lumped motorcycle with that one change, built and swept by the engine as the accuracy study
     does (front assembly: the six changes)."""
-    from motoflex_ros.study.fitted import PERTURBATIONS, hinge_of, perturbed, with_fitted
+    from motoflex_ros.study.hinge_fit_problem import PERTURBATIONS
+    from motoflex_ros.study.hinge_fit_result import with_fitted
+    from motoflex_ros.study.hinge_geometry import hinge_of, perturbed
     from motoflex_ros.study.lumped_accuracy import _weave_wobble, flexible_reference
     from motoflex_ros.study.variants import build_variant
     from motoflex_ros.vehicle import lumped
@@ -300,7 +302,7 @@ def _compliance_ratio(component, entry, wrench=None):
     """(w . C_h . w) / (w . C . w): the fitted hinge's compliance under the wrench the
     component carries in the flexible motorcycle's wobble (or ``wrench``) against the clamped
     FE model's."""
-    from motoflex_ros.study.fitted import end_compliance, hinge_compliance, hinge_of
+    from motoflex_ros.study.hinge_geometry import end_compliance, hinge_compliance, hinge_of
     from motoflex_ros.vehicle import lumped
 
     comp = load_component(component)

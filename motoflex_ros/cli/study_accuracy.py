@@ -87,7 +87,7 @@ def _hinge_row(component, label, values):
 
 def print_hinges(result, stream):
     """The single hinges beside the static one, the fits and their conditioning."""
-    from motoflex_ros.study.fitted import objective_of
+    from motoflex_ros.study.hinge_fit_problem import objective_of
 
     stream.write("Single hinges (component frame, eqs. 5-8; c = 0.001 s x k). 'all' uses each "
                  "component's own, unchanged\n")

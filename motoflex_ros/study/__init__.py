@@ -4,5 +4,7 @@ stability_index (eqs. 13-15), factorial (designs), anova, correlation (eqs. 16-1
 (eq. 18), continuation (tracking modes over speed), tracked (the vehicle-to-study plug: study
 functions from state matrices or linear stiffness pencils), runner (in process or on Dask),
 sensitivity (the analysis of Sect. 5.3) and motorcycle (that study on the engine's decomposed
-lumped motorcycle). Submodules are imported explicitly; this package imports nothing heavy.
+lumped motorcycle), fitted (the hinge fitted to the flexible motorcycle, with hinge_geometry,
+hinge_fit_problem and hinge_fit_result). Submodules are imported explicitly; this package
+imports nothing heavy.
 """

@@ -28,8 +28,10 @@ import numpy as np
 
 from motoflex_ros.bench.campaign import setup_campaign
 from motoflex_ros.errors import ModelError
-from motoflex_ros.study.accuracy import QUANTITIES, rms_error_percent
-from motoflex_ros.study.fitted import fit_hinges, hinge_of, with_fitted
+from motoflex_ros.study.accuracy import QUANTITIES, weave_wobble_errors
+from motoflex_ros.study.fitted import fit_hinges
+from motoflex_ros.study.hinge_fit_result import with_fitted
+from motoflex_ros.study.hinge_geometry import hinge_of
 from motoflex_ros.study.load_variants import (
     VEHICLE_LOAD_SPEED,
     road_load_tests,
@@ -97,15 +99,11 @@ def mode_errors(lumped, flexible, label):
 
     ``lumped``, ``flexible``: {"weave": eigenvalues over speed, "wobble": ...} [1/s].
     """
-    out = {}
     for mode in ("weave", "wobble"):
-        lu, fl = lumped[mode], flexible[mode]
-        if not (np.all(np.isfinite(lu)) and np.all(np.isfinite(fl))):
+        if not (np.all(np.isfinite(lumped[mode])) and np.all(np.isfinite(flexible[mode]))):
             raise ModelError(f"{label}: {mode} is not tracked at every speed, so eq. (18) "
                              "cannot be evaluated")
-        out[f"{mode}_f"] = float(rms_error_percent(lu.imag / (2 * np.pi), fl.imag / (2 * np.pi)))
-        out[f"{mode}_re"] = float(rms_error_percent(lu.real, fl.real))
-    return out
+    return {q: float(e) for q, e in weave_wobble_errors(lumped, flexible).items()}
 
 
 def accuracy_study(vehicle, components, identified, speeds, cases=CASES,
