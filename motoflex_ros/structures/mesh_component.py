@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
-from motoflex_ros.config import Field, number, positive, validate
+from motoflex_ros.config import Field, number, positive
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.inertia import check_inertia
 from motoflex_ros.limits import check_limit
@@ -425,8 +425,3 @@ def mesh_component_name(cfg, path):
         return cfg["name"]
     stem = re.sub(r"[^A-Za-z0-9_]", "_", Path(path).stem)
     return stem if stem[:1].isalpha() else f"mesh_{stem}"
-
-
-def validate_mesh_config(data, path):
-    """The validated MESH_SCHEMA configuration of the YAML mapping ``data`` from ``path``."""
-    return validate(data, MESH_SCHEMA, path)

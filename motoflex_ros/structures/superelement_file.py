@@ -30,7 +30,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from motoflex_ros.config import Field, validate
+from motoflex_ros.config import Field
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.files import atomic_write_bytes, atomic_write_text, missing_file_text
 from motoflex_ros.input_pins import read_input
@@ -288,11 +288,6 @@ def load_superelement_component(cfg, path, damping_ratio):
                                                                enumerate(names)},
         origin=np.zeros(3) if placement is None else np.asarray(placement["origin"], float),
         source=source, damping_ratio=damping_ratio)
-
-
-def validate_superelement_config(data, path):
-    """The validated SUPERELEMENT_SCHEMA configuration of the YAML mapping ``data``."""
-    return validate(data, SUPERELEMENT_SCHEMA, path)
 
 
 def export_superelement(component, directory, n_modes=N_MODES, f_max_hz=F_MAX_HZ):
