@@ -31,6 +31,7 @@ def test_every_paper_formula_has_an_example():
         "motoflex_ros.identify.axis": ["plane_offset", "joint_position", "joint_distance",
                                        "axis_angle", "moment_arm", "axis_stiffness",
                                        "deformation_axis"],
+        "motoflex_ros.identify.decay": ["decay_poles"],
         "motoflex_ros.identify.stiffness": ["natural_frequency", "damping_ratio",
                                             "modal_inertia", "modal_damping", "static_damping"],
         "motoflex_ros.identify.decomposition": ["decompose_stiffness",
@@ -39,7 +40,8 @@ def test_every_paper_formula_has_an_example():
         "motoflex_ros.study.stability_index": ["max_real_part", "stable_fraction",
                                                "combined_index", "stability_index"],
         "motoflex_ros.study.correlation": ["pearson"],
-        "motoflex_ros.study.accuracy": ["rms_error_percent"],
+        "motoflex_ros.study.accuracy": ["rms_error_percent", "weave_wobble_errors"],
+        "motoflex_ros.study.anova": ["anova"],
     }
     finder = doctest.DocTestFinder(recurse=False)
     missing = [f"{module}.{name}" for module, names in formulas.items() for name in names
