@@ -63,8 +63,11 @@ setup(
                   "pypardiso>=0.4.7; platform_machine == 'x86_64' or platform_machine == 'AMD64'"],
         # gmsh: a hollow tube meshed as an engineer's FE tool does (test_mesh_gmsh.py)
         # pytest-xdist: ./test.sh runs the suite on two workers (test/conftest.py groups it)
+        # playwright: drives the system chromium in the browser tests (test/headless_chromium.py;
+        # its own browser downloads are not used)
         "test": ["pytest>=8", "ruff>=0.6", "pytest-benchmark>=4", "pillow>=10", "sympy>=1.12",
-                 "gmsh>=4.11", "pytest-xdist>=3.5", "mkdocs>=1.6", "mkdocs-material>=9.5"],
+                 "gmsh>=4.11", "pytest-xdist>=3.5", "mkdocs>=1.6", "mkdocs-material>=9.5",
+                 "playwright>=1.50"],
     },
     zip_safe=True,
     maintainer="motoflex_ros developers",
