@@ -64,9 +64,11 @@ setup(
         # gmsh: a hollow tube meshed as an engineer's FE tool does (test_mesh_gmsh.py)
         # import-linter: the layer contract in pyproject.toml (test/test_layering.py)
         # pytest-xdist: ./test.sh runs the suite on two workers (test/conftest.py groups it)
+        # playwright: drives the system chromium in the browser tests (test/headless_chromium.py;
+        # its own browser downloads are not used)
         "test": ["pytest>=8", "ruff>=0.6", "import-linter>=2.16", "pytest-benchmark>=4",
                  "pillow>=10", "sympy>=1.12", "gmsh>=4.11", "pytest-xdist>=3.5", "mkdocs>=1.6",
-                 "mkdocs-material>=9.5"],
+                 "mkdocs-material>=9.5", "playwright>=1.50"],
     },
     zip_safe=True,
     maintainer="motoflex_ros developers",

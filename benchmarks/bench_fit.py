@@ -27,7 +27,9 @@ from bench_vehicle import best_time  # noqa: E402  (the same best-of timing)
 
 from motoflex_ros.cli.inputs import motorcycle_components, study_speeds  # noqa: E402
 from motoflex_ros.config import resolve_config  # noqa: E402
-from motoflex_ros.study.fitted import HingeFitProblem, fit_hinges, hinge_of  # noqa: E402
+from motoflex_ros.study.fitted import fit_hinges  # noqa: E402
+from motoflex_ros.study.hinge_fit_problem import HingeFitProblem  # noqa: E402
+from motoflex_ros.study.hinge_geometry import hinge_of  # noqa: E402
 from motoflex_ros.study.load_variants import road_load_tests, vehicle_load_tests  # noqa: E402
 from motoflex_ros.study.lumped_accuracy import flexible_motorcycle  # noqa: E402
 from motoflex_ros.vehicle.model import load_vehicle  # noqa: E402

@@ -10,7 +10,7 @@ Motorcycles from the vehicle engine, 171 speeds (40-210 km/h, 1 km/h steps):
   runs' matrices (eigenvalues only: no mode tracking, so a floor for a full decomposition);
   with --dask the 729-run study also on a 2-process LocalCluster.
 
-Ratios are measured in the same run (design.md Sect. 8); absolute times drift on shared
+Ratios are measured in the same run (docs/performance.md); absolute times drift on shared
 machines, so the CPU time of this process is printed next to the wall time.
 Run: OPENBLAS_NUM_THREADS=1 python benchmarks/bench_study.py [--dask]
 """

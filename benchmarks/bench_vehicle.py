@@ -1,5 +1,5 @@
 """Benchmark of the vehicle engine: A(v) for 171 speeds plus all eigenvalues, against numpy's
-batched eigvals on the same stacked matrices alone (design.md sect. 8; target <= 2 for the
+batched eigvals on the same stacked matrices alone (docs/performance.md; target <= 2 for the
 touring motorcycle).
 
 Printed (best of several repeats, all measured in this run):

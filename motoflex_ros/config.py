@@ -8,6 +8,14 @@ otherwise (``pitch_deg``, ``speed_kmh``).
 The shipped configuration lives inside the package (``motoflex_ros/config``, also reachable as
 ``config/`` at the repository root) and is found with :mod:`importlib.resources`, so it works in
 a colcon install, a pip install and an editable install alike.
+
+Why not jsonschema (measured 2026-12 with jsonschema 4.26 on this machine, the schemas
+translated one to one): it accepts NaN where a range is given (NaN compares false with both
+bounds), its message names neither the file nor the allowed range ("-5.0 is less than or equal
+to the minimum of 0.0"), and it neither fills the defaults nor normalises (ints to floats, an
+int of hundreds of digits), so a translation layer as long as this validator would remain;
+and it took 9-10x as long (1.8 ms against 0.2 ms for config/vehicles/touring.yaml, 2.6 against
+0.25 ms for config/components/frame.yaml, best of 20, in one run).
 """
 import math
 import re

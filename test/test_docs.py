@@ -108,17 +108,20 @@ def test_getting_started_example_runs(example, tmp_path):
 
 
 def test_code_cites_docs_references_only():
-    """Citations in the code point at docs/references.md entries that exist, and at no
-    reference file outside the repository."""
+    """Citations in the code point at docs/references.md entries and docs pages that exist,
+    and at no reference or design file outside the repository."""
     references = (DOCS / "references.md").read_text()
     anchors = set(re.findall(r'<a id="([^"]+)"></a>', references))
     sources = [p for folder in ("motoflex_ros", "test", "tools", "benchmarks", "launch")
                for p in (ROOT / folder).rglob("*") if p.suffix in (".py", ".yaml", ".sh")]
-    cited, outside = set(), []
+    cited, outside, pages = set(), [], set()
     for path in sources:
         text = path.read_text(encoding="utf-8", errors="replace")
         cited |= set(re.findall(r"docs/references\.md#([\w-]+)", text))
         outside += [f"{path.relative_to(ROOT)}: {m}"
-                    for m in re.findall(r"(?<![\w/.])reference/[\w-]+\.md", text)]
+                    for m in re.findall(r"(?<![\w/.])(?:reference/[\w-]+|design)\.md", text)]
+        pages |= set(re.findall(r"docs/([\w-]+\.md)", text))
     assert cited and not cited - anchors, sorted(cited - anchors)
     assert not outside, outside
+    missing = sorted(page for page in pages if not (DOCS / page).is_file())
+    assert not missing, f"the code cites docs pages that do not exist: {missing}"

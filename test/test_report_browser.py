@@ -1,7 +1,7 @@
 """Browser test: report.html of the example run, rendered in headless chromium (issue 16).
 
-The report of a copy of bags/example is opened from file:// over the DevTools protocol
-(test/chromium_devtools.py). Each figure is screenshotted where the browser laid it out: its
+The report of a copy of bags/example is opened from file:// by Playwright
+(test/headless_chromium.py). Each figure is screenshotted where the browser laid it out: its
 plot region must not be blank (pixel statistics: ink on at least MIN_INK of its pixels, and data
 drawn in colour on at least MIN_COLOURED: axes, ticks and text alone are black and grey) and it
 must be shown at its own pixel width (not shrunk); the rendered text of
@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from chromium_devtools import DevTools, ensure_chromium
+from headless_chromium import HeadlessChromium, ensure_chromium
 from PIL import Image
 from report_html import example_report
 
@@ -53,7 +53,7 @@ def report(tmp_path_factory):
 @pytest.mark.slow
 def test_report_renders_plots_and_names_the_motorcycle_in_chromium(report):
     ensure_chromium()
-    browser = DevTools()
+    browser = HeadlessChromium()
     try:
         url = (report / "report.html").as_uri()
         browser.open(url)

@@ -2,7 +2,7 @@
 web viewer, on the timeline the viewer opens on (issue 24, point 6).
 
 A copy of bags/example is converted (`motoflex rerun`) and served (`motoflex view --web`); headless
-chromium opens it over the DevTools protocol (test/chromium_devtools.py). The default layout's
+chromium, driven by Playwright (test/headless_chromium.py), opens it. The default layout's
 views are then shown one at a time, each alone on the screen with the default time panel
 (``sim_time``), by sending the viewer a blueprint over the recording's gRPC proxy, and
 screenshotted: the view's area must hold at least MIN_DATA_PIXELS coloured pixels of data (a
@@ -25,7 +25,7 @@ import numpy as np
 import pytest
 import rerun as rr
 import rerun.blueprint as rrb
-from chromium_devtools import WINDOW, DevTools, ensure_chromium
+from headless_chromium import WINDOW, HeadlessChromium, ensure_chromium
 from PIL import Image
 
 from motoflex_ros.record.rerun_blueprint import default_tabs, tab_views, viewer_panels
@@ -139,7 +139,7 @@ def test_every_view_of_every_tab_shows_data_on_the_opening_timeline(served):
     stream.connect_grpc(_proxy(address))
     keep = os.environ.get("MOTOFLEX_SAVE_VIEWER_PNG")
     empty, shots = [], {}
-    browser = DevTools()
+    browser = HeadlessChromium()
     try:
         browser.open(address)
         for k, (tab, view) in enumerate(views):

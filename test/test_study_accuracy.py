@@ -11,9 +11,8 @@ import pytest
 from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ModelError
-from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.structures.component_model import load_component
 from motoflex_ros.study.accuracy import rms_error_percent
-from motoflex_ros.study.identified_variants import carried_inertias
 from motoflex_ros.study.lumped_accuracy import (
     ACCURACY_VARIANTS,
     CASES,
@@ -22,6 +21,7 @@ from motoflex_ros.study.lumped_accuracy import (
     accuracy_study,
     mode_errors,
 )
+from motoflex_ros.study.identified_variants import carried_inertias
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.model import load_vehicle
 
@@ -262,9 +262,11 @@ def test_conditioning_is_what_the_study_prints(verb_run, identified_file):
     """The conditioning the verb prints is that of --details, and each entry is eq. 18 of the
     lumped motorcycle with that one change, built and swept by the engine as the accuracy study
     does (front assembly: the six changes)."""
-    from motoflex_ros.study.fitted import PERTURBATIONS, hinge_of, perturbed, with_fitted
-    from motoflex_ros.study.identified_variants import build_variant
+    from motoflex_ros.study.hinge_fit_problem import PERTURBATIONS
+    from motoflex_ros.study.hinge_fit_result import with_fitted
+    from motoflex_ros.study.hinge_geometry import hinge_of, perturbed
     from motoflex_ros.study.lumped_accuracy import _weave_wobble, flexible_reference
+    from motoflex_ros.study.identified_variants import build_variant
     from motoflex_ros.vehicle import lumped
 
     _, _, text, components_details = verb_run
@@ -300,7 +302,7 @@ def _compliance_ratio(component, entry, wrench=None):
     """(w . C_h . w) / (w . C . w): the fitted hinge's compliance under the wrench the
     component carries in the flexible motorcycle's wobble (or ``wrench``) against the clamped
     FE model's."""
-    from motoflex_ros.study.fitted import end_compliance, hinge_compliance, hinge_of
+    from motoflex_ros.study.hinge_geometry import end_compliance, hinge_compliance, hinge_of
     from motoflex_ros.vehicle import lumped
 
     comp = load_component(component)

@@ -8,15 +8,10 @@ from scipy.spatial.transform import Rotation
 
 from motoflex_ros.cli.inputs import motorcycle_components
 from motoflex_ros.config import resolve_config
-from motoflex_ros.study.fitted import (
-    HingeFitProblem,
-    fit_hinges,
-    hinge_from_line,
-    hinge_line,
-    objective_of,
-    static_hinge,
-    with_fitted,
-)
+from motoflex_ros.study.fitted import fit_hinges
+from motoflex_ros.study.hinge_fit_problem import TIE_BREAK, HingeFitProblem, objective_of
+from motoflex_ros.study.hinge_fit_result import with_fitted
+from motoflex_ros.study.hinge_geometry import hinge_from_line, hinge_line, static_hinge
 from motoflex_ros.study.hinge_pencil import HingePencil, hinge_second_order
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.lumped_accuracy import _weave_wobble
@@ -193,7 +188,8 @@ def test_no_single_swingarm_hinge_with_the_fe_compliance_fits(setting):
     motorcycle's weave at 100 km/h (every axis in 5 deg, arms -1 to 1 m, then Nelder-Mead)
     fits weave and wobble no better than J 4 % (ours 4.9 %), worse than the static hinge;
     the FE model's whole end stiffness in the hinge's place fits within 0.3 %."""
-    from motoflex_ros.study.fitted import end_compliance, fit_under_compliance, hinge_compliance
+    from motoflex_ros.study.fitted import fit_under_compliance
+    from motoflex_ros.study.hinge_geometry import end_compliance, hinge_compliance
     from motoflex_ros.study.lumped_accuracy import flexible_motorcycle
     from motoflex_ros.study.vehicle_load import mode_wrench
 
@@ -224,22 +220,15 @@ VALLEY_START = (math.radians(80.0), -0.269, 8.6e5)
 def frame_fits(setting):
     """The frame fitted to the flexible motorcycle from the static hinge and from VALLEY_START,
     with the tie-break and without it: {tie: HingeFit}."""
-    from motoflex_ros.study import fitted
     from motoflex_ros.study.lumped_accuracy import flexible_reference
 
     vehicle, components, identified = setting
     site = lumped.site_of(components["frame"])
     reference = flexible_reference(vehicle, components, identified, ["frame"], SPEEDS)
     starts = {"valley": {"frame": hinge_from_line(site, *VALLEY_START)}}
-    out, tie = {}, fitted.TIE_BREAK
-    try:
-        for weight in (tie, 0.0):
-            fitted.TIE_BREAK = weight
-            out[weight] = fit_hinges(vehicle, components, identified, ["frame"], reference,
-                                     SPEEDS, starts=starts)
-    finally:
-        fitted.TIE_BREAK = tie
-    return out
+    return {weight: fit_hinges(vehicle, components, identified, ["frame"], reference, SPEEDS,
+                               starts=starts, tie_break=weight)
+            for weight in (TIE_BREAK, 0.0)}
 
 
 def test_tie_break_keeps_the_frames_fit_a_hinge(frame_fits):
@@ -247,8 +236,6 @@ def test_tie_break_keeps_the_frames_fit_a_hinge(frame_fits):
     b -> 0, k -> 0 (the head sliding sideways without turning, b^2 / k kept), where J is
     lower; with it both searches end at hinges with k within a factor 2 of static's, b^2 / k
     within 5 % of each other and J within 0.01 %."""
-    from motoflex_ros.study.fitted import TIE_BREAK
-
     free = frame_fits[0.0].starts["valley"]["hinges"]["frame"]
     assert free["k"] < 1e3 and abs(free["b"]) < 0.01, free
     fit = frame_fits[TIE_BREAK]
@@ -273,7 +260,5 @@ def test_tie_break_keeps_the_frames_fit_a_hinge(frame_fits):
 def test_frames_fit_has_one_answer(frame_fits):
     """The frame's fit ends at the same axis (within 2 deg) from the static hinge and from a
     hinge elsewhere in the valley."""
-    from motoflex_ros.study.fitted import TIE_BREAK
-
     ends = [v["hinges"]["frame"]["beta"] for v in frame_fits[TIE_BREAK].starts.values()]
     assert math.degrees(abs(ends[0] - ends[1])) <= 2.0, [math.degrees(b) for b in ends]

@@ -1,7 +1,7 @@
 """Tyre limit: the Whipple bicycle on linear tyres converges to the non-holonomic benchmark.
 
 Cornering stiffness C grows, relaxation length 100/C shrinks, camber and aligning stiffness
-are zero (holding C_gamma/C_alpha fixed would leave a steady error, design.md sect. 7). The
+are zero (holding C_gamma/C_alpha fixed would leave a steady error, docs/vehicle-engine.md). The
 eigenvalues of the knife-edge model are the limit; the error falls as O(1/C).
 """
 import numpy as np

@@ -1,6 +1,6 @@
 """Invariance of the engine's eigenvalues to modelling choices that do not change the physics
-(design.md sect. 7 validation order): another root body, a reversed joint axis, a body split
-into parts. Reference: the Meijaard et al. (2007) benchmark eigenvalues at 5 m/s."""
+(docs/vehicle-engine.md, the order of the checks): another root body, a reversed joint axis, a
+body split into parts. Reference: the Meijaard et al. (2007) benchmark eigenvalues at 5 m/s."""
 import copy
 
 import numpy as np

@@ -1,6 +1,6 @@
 """Kinematics of the vehicle engine: velocities and bias accelerations against finite
-differences of positions (design.md sect. 7, validation order), and the toroidal contact point
-of a leaned wheel against its closed form."""
+differences of positions (docs/vehicle-engine.md, the order of the checks), and the toroidal
+contact point of a leaned wheel against its closed form."""
 import numpy as np
 import pytest
 import yaml

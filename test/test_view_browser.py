@@ -1,6 +1,6 @@
 """Browser test: `motoflex view RUN --web` in headless Debian chromium shows a non-empty 3D view.
 
-The page is driven over the DevTools protocol (test/chromium_devtools.py): screenshots are
+The page is driven by Playwright (test/headless_chromium.py): screenshots are
 taken until the bench's 3D view shows the orange beam model, or a time limit passes. Set
 MOTOFLEX_SAVE_VIEWER_PNG=path to keep the screenshot (docs/viewer.png in the README).
 """
@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from chromium_devtools import WINDOW, DevTools, ensure_chromium
+from headless_chromium import WINDOW, HeadlessChromium, ensure_chromium
 from PIL import Image
 from processes import processes_naming
 
@@ -72,7 +72,7 @@ def served_run(tmp_path):
 def test_view_web_shows_3d_bench_in_chromium(served_run):
     ensure_chromium()
     assert served_run.startswith("http://127.0.0.1:")
-    browser = DevTools()
+    browser = HeadlessChromium()
     try:
         browser.open(served_run)
         deadline = time.monotonic() + LOAD_LIMIT_S

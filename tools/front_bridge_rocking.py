@@ -26,7 +26,6 @@ import numpy as np
 
 from motoflex_ros.config import config_path
 from motoflex_ros.structures import load_component
-from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.tilt_stiffness import (
     FRONT,
     PARTS,
@@ -34,6 +33,8 @@ from motoflex_ros.study.tilt_stiffness import (
     bridge_rocking_stiffness,
     tilt_sweep,
 )
+from motoflex_ros.study.identified_variants import build_variant
+from motoflex_ros.units import kmh_to_ms, ms_to_kmh
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 
@@ -62,7 +63,7 @@ def main():
     parser.add_argument("--part", choices=PARTS, default="tilt")
     parser.add_argument("--rocking-modes", action="store_true")
     args = parser.parse_args()
-    speeds = np.asarray(args.speeds_kmh) / 3.6
+    speeds = kmh_to_ms(args.speeds_kmh)
     vehicle = load_vehicle(config_path("vehicles", "touring"))
     print("1. fork bridge on the freed head, rocking stiffness [N m/rad] (steering, pitch/roll):")
     for factor in args.factors:
@@ -73,10 +74,11 @@ def main():
                                  {FRONT: load_component(FRONT)})
         print("2. per-body modes between 2 and 6 Hz at 100 km/h:",
               ", ".join(f"{f:.2f} Hz ({c})" for f, c in
-                        rocking_modes(linearize(per_body), 100 / 3.6)))
+                        rocking_modes(linearize(per_body), kmh_to_ms(100.0))))
     sweep = tilt_sweep(vehicle, speeds, args.factors, args.part,
                        progress=lambda label: print(f"   ... {label}", file=sys.stderr))
-    print("3. weave and wobble [1/s] at " + ", ".join(f"{v * 3.6:g}" for v in speeds) + " km/h")
+    print("3. weave and wobble [1/s] at "
+          + ", ".join(f"{ms_to_kmh(v):g}" for v in speeds) + " km/h")
     for mode in ("weave", "wobble"):
         print(f"   {'one clamped superelement':34s} {mode:6s} {_cells(sweep.superelement[mode])}")
         print(f"   {'per-body, head revolute':34s} {mode:6s} {_cells(sweep.held[mode])}")
@@ -87,7 +89,7 @@ def main():
     least = sweep.least_damped()
     for k, factor in enumerate(sweep.factors):
         print(f"   x {factor:<6g} " + "  ".join(
-            f"{mode} {least[mode][0][k]:+.3f} ({least[mode][1][k] * 3.6:.0f})"
+            f"{mode} {least[mode][0][k]:+.3f} ({ms_to_kmh(least[mode][1][k]):.0f})"
             for mode in ("weave", "wobble")))
 
 

@@ -25,9 +25,10 @@ import numpy as np
 from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
 from motoflex_ros.inertia import composite_inertia
-from motoflex_ros.structures.component_loader import load_component
-from motoflex_ros.study.identified_variants import GAMMA
+from motoflex_ros.structures.component_model import load_component
 from motoflex_ros.study.lumped_accuracy import _weave_wobble, flexible_reference, mode_errors
+from motoflex_ros.study.identified_variants import GAMMA
+from motoflex_ros.units import kmh_to_ms
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.lumped import FlexJoint, axis_in_vehicle, lumped_vehicle
 from motoflex_ros.vehicle.model import load_vehicle
@@ -152,7 +153,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--step-kmh", type=float, default=10.0)
     args = ap.parse_args()
-    st = Study(np.arange(40.0, 210.0 + 1e-9, args.step_kmh) / 3.6)
+    st = Study(kmh_to_ms(np.arange(40.0, 210.0 + 1e-9, args.step_kmh)))
     candidates(st)
     compliance_split(st)
 

@@ -14,11 +14,11 @@ import sys
 
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.identify.results import MODEL_TESTS
 
 __all__ = ["register", "run", "compare_results", "QUANTITIES", "Z_FLAG"]
 
 QUANTITIES = ("l", "beta", "b", "k", "c", "J")
-MODELS = ("static", "torsion", "bending")
 Z_FLAG = 2.0
 _Z95 = 1.959963984540054
 
@@ -77,7 +77,7 @@ def compare_results(data_a, data_b, path_a="A", path_b="B"):
     for name_a, name_b in _pairs(data_a, data_b, path_a, path_b):
         ra, rb = data_a[name_a], data_b[name_b]
         label = name_a if name_a == name_b else f"{name_a} / {name_b}"
-        for model in MODELS:
+        for model in MODEL_TESTS:
             for key in QUANTITIES:
                 ea, eb = ra.get(model), rb.get(model)
                 if (ea and key in ea) or (eb and key in eb):
@@ -138,7 +138,7 @@ def _load(path):
         if not isinstance(result, dict) or "static" not in result:
             raise ConfigError(path, str(name), "not an identification result (no 'static'); "
                                                "give files of motoflex identify --out")
-        for model in MODELS:
+        for model in MODEL_TESTS:
             _check_entry(result.get(model), QUANTITIES, path, f"{name}.{model}")
         _check_entry(result, ("k_t", "k_b"), path, str(name))
     return data

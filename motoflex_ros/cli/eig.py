@@ -47,8 +47,9 @@ from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.config import resolve_config
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.limits import check_limit
-from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.pulse_check import pulse_check
+from motoflex_ros.study.identified_variants import build_variant
+from motoflex_ros.units import kmh_to_ms, ms_to_kmh
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import MODE_NAMES, modal_sweep
@@ -116,7 +117,7 @@ def requested_speeds(args):
         if not high >= low:
             raise ConfigError(_ARGS, "--range-kmh", f"HI {high:g} must be >= LO {low:g}")
         key, unit = "--range-kmh", "km/h"
-        check_top_speed(high / 3.6, key, unit)
+        check_top_speed(kmh_to_ms(high), key, unit)
         count = math.floor((high - low) / step + 1e-9) + 1
         check_limit("speeds", count, _ARGS, "--step-kmh", f"--range-kmh {low:g} {high:g} in "
                                                           f"steps of {step:g} km/h")
@@ -125,7 +126,7 @@ def requested_speeds(args):
     if bad.size:
         raise ConfigError(_ARGS, key, f"speeds must be finite and > 0 {unit}, "
                                       f"got {bad[0]:g} {unit}")
-    speeds = given_speeds / 3.6 if unit == "km/h" else given_speeds
+    speeds = kmh_to_ms(given_speeds) if unit == "km/h" else given_speeds
     check_top_speed(speeds.max(), key, unit)
     return speeds
 
@@ -134,9 +135,10 @@ def check_top_speed(speed, key, unit="m/s", source=_ARGS):
     """ConfigError when a speed [m/s] is above SPEED_MAX_MPS (400 km/h); the message gives
     the speed in ``unit`` (the option's: 'm/s' or 'km/h')."""
     if not speed <= SPEED_MAX_MPS:
-        shown = speed * 3.6 if unit == "km/h" else speed
+        shown = ms_to_kmh(speed) if unit == "km/h" else speed
         raise ConfigError(source, key, f"speeds must be at most {SPEED_MAX_MPS:.4g} m/s "
-                                       f"({SPEED_MAX_MPS * 3.6:g} km/h), got {shown:g} {unit}")
+                                       f"({ms_to_kmh(SPEED_MAX_MPS):g} km/h), "
+                                       f"got {shown:g} {unit}")
 
 
 def _pair(z):
@@ -172,7 +174,7 @@ def _print_table(sweep, stream):
     rows = []
     for k, v in enumerate(sweep.speeds):
         m = {name: sweep.modes[name][k] for name in MODE_NAMES}
-        rows.append([f"{v * 3.6:.1f}", _cell(m["weave"], "f"), _cell(m["weave"], "re"),
+        rows.append([f"{ms_to_kmh(v):.1f}", _cell(m["weave"], "f"), _cell(m["weave"], "re"),
                      _cell(m["wobble"], "f"), _cell(m["wobble"], "re"),
                      _cell(m["capsize"], "re")])
     print_table(["speed km/h", "weave Hz", "weave Re 1/s", "wobble Hz", "wobble Re 1/s",
@@ -191,7 +193,7 @@ def pulse_check_to_json(check):
 
 
 def _print_pulse_checks(checks, stream):
-    rows = [[f"{c.speed * 3.6:.1f}", mode, f"{lam.imag / (2 * np.pi):.3f}", f"{lam.real:.3f}",
+    rows = [[f"{ms_to_kmh(c.speed):.1f}", mode, f"{lam.imag / (2 * np.pi):.3f}", f"{lam.real:.3f}",
              f"{c.nonlinear[mode].imag / (2 * np.pi):.3f}", f"{c.nonlinear[mode].real:.3f}",
              f"{100 * err[0]:+.3f}", f"{100 * err[1]:+.3f}"]
             for c in checks for mode, lam in c.linear.items()

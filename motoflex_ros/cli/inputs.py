@@ -8,6 +8,7 @@ import numpy as np
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.limits import check_limit
+from motoflex_ros.units import kmh_to_ms
 
 __all__ = ["COMPONENTS", "identification_results", "motorcycle_components",
            "add_study_inputs", "add_use_option", "component_roles", "study_speeds",
@@ -99,7 +100,7 @@ def study_speeds(step_kmh, max_step_kmh):
     kmh = 40.0 + step_kmh * np.arange(count)
     if kmh[-1] < 210.0 - 1e-9:
         kmh = np.append(kmh, 210.0)
-    return kmh / 3.6
+    return kmh_to_ms(kmh)
 
 
 def noise_argument(text):

@@ -40,6 +40,7 @@ from motoflex_ros.cli.output import (
 )
 from motoflex_ros.config import resolve_config
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.units import kmh_to_ms, ms_to_kmh
 
 __all__ = ["register_accuracy", "run_accuracy", "print_hinges", "details"]
 
@@ -86,7 +87,7 @@ def _hinge_row(component, label, values):
 
 def print_hinges(result, stream):
     """The single hinges beside the static one, the fits and their conditioning."""
-    from motoflex_ros.study.fitted import objective_of
+    from motoflex_ros.study.hinge_fit_problem import objective_of
 
     stream.write("Single hinges (component frame, eqs. 5-8; c = 0.001 s x k). 'all' uses each "
                  "component's own, unchanged\n")
@@ -107,7 +108,7 @@ def print_hinges(result, stream):
         carried = loads["wrench"]
         w = carried.direction
         stream.write(f"vehicle_load of {name}: {carried.mode} at "
-                     f"{carried.speed * 3.6:.0f} km/h, wrench at q0 per N of force "
+                     f"{ms_to_kmh(carried.speed):.0f} km/h, wrench at q0 per N of force "
                      f"F ({w[0]:+.3f}, {w[1]:+.3f}, {w[2]:+.3f}), M ({w[3]:+.3f}, "
                      f"{w[4]:+.3f}, {w[5]:+.3f}) m\n")
     for name, fit in result.fits.items():
@@ -170,7 +171,7 @@ def _load_speed(kmh):
     if not 40.0 <= kmh <= 210.0:
         raise ConfigError("command line", "--vehicle-load-kmh",
                           f"must be in [40, 210] km/h (the study's range), got {kmh:g}")
-    return kmh / 3.6
+    return float(kmh_to_ms(kmh))
 
 
 def run_accuracy(args):

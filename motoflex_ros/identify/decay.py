@@ -126,6 +126,20 @@ def decay_poles(signals, dt, replicas=BOOTSTRAP_REPLICAS, seed=BOOTSTRAP_SEED):
         intervals; pencil parameter min(n / 3, MAX_PENCIL), model order above the noise floor
         (3 x the median singular value).
 
+    Examples
+    --------
+    An exact free decay at omega_n = 2 pi 10 rad/s with zeta = 0.02 (two channels, cosine and
+    sine of the damped frequency omega_n sqrt(1 - zeta^2)) gives that one pole back:
+
+    >>> omega, zeta, dt = 20 * np.pi, 0.02, 1e-3
+    >>> t = np.arange(600) * dt
+    >>> phase = omega * np.sqrt(1 - zeta**2) * t
+    >>> record = np.exp(-zeta * omega * t)[:, None] * np.column_stack([np.cos(phase),
+    ...                                                                 np.sin(phase)])
+    >>> [(round(p.omega_n / (2 * np.pi), 9), round(p.zeta, 9))
+    ...  for p in decay_poles(record, dt, replicas=0)]
+    [(10.0, 0.02)]
+
     """
     signals = _active(np.asarray(signals, float))
     lam = _poles(signals, dt)

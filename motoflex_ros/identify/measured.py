@@ -486,36 +486,26 @@ def _pick_models(harmonics, decay):
     return chosen
 
 
-def identify_measured(data, bench):
-    """MeasuredIdentification of Measurements ``data`` with a BenchFile (module doc).
-
-    MeasurementError (naming the file, the row and the column) when the data cannot give an
-    identification: no static test, markers that do not fit the reference, too few frames
-    before the first load for ``markers: from_data``.
-    """
-    q0 = bench.q0
-    segments, noise, threshold = find_tests(data.t, data.force, data.labels, data.source)
-    segments = [s for s in segments if not (s.labelled and s.name in MOMENT_TESTS)]
-    loaded = np.flatnonzero(np.abs(data.force) > threshold)
-    reference, ref_frames, ref_text = _reference(data, bench, int(loaded[0]))
-    poses, residual = fit_poses(data.markers, reference, q0)
-    _check_rigid(data, bench, residual, ref_text)
+def _static_test(data, poses, segments, ref_frames):
+    """(the static tests, the one used, its StaticReading): the one named 'static', else the
+    first; MeasurementError when the record has none."""
     statics = [s for s in segments if s.kind == "static"]
-    found = ", ".join(f"{s.name} ({s.kind})" for s in segments) or "none"
     if not statics:
+        found = ", ".join(f"{s.name} ({s.kind})" for s in segments) or "none"
         raise MeasurementError(data.source, f"no static test (a ramp to a load held for at "
                                             f"least 10 frames) in the record; eq. (8) needs "
                                             f"F_st and y_st of one (tests found: {found})",
                                column="fy")
     static_seg = next((s for s in statics if s.name == "static"), statics[0])
-    static_reading = _static_reading(data, poses, static_seg, ref_frames)
-    static, static_cov = static_model(static_reading, q0)
-    check_positive_k(bench.name, "static", static)
-    notes, report = [], []
+    return statics, static_seg, _static_reading(data, poses, static_seg, ref_frames)
 
+
+def _free_decay(data, poses, segments, q0, noise_m, report):
+    """(DecayReading, its segment, frames filled) of the longest free decay, or Nones; every
+    decay segment's entry appended to ``report``."""
     decay, decay_seg, filled = None, None, 0
     for seg in (s for s in segments if s.kind == "decay"):
-        reading, reason, n_filled = _decay_reading(data, poses, seg, q0, bench.noise_m)
+        reading, reason, n_filled = _decay_reading(data, poses, seg, q0, noise_m)
         entry = seg.summary(data.t)
         if reading is None:
             entry["used"] = False
@@ -524,8 +514,13 @@ def identify_measured(data, bench):
             decay, decay_seg, filled = reading, seg, n_filled
             entry["used"] = True
         report.append(entry)
+    return decay, decay_seg, filled
 
-    harmonics, others_raw, sweep = {}, {}, []
+
+def _harmonic_tests(data, poses, segments, q0, decay, report):
+    """({name: (segment, windows, HarmonicReading, beta)} of the harmonic tests with a steady
+    response, [AxisModel] of the sweep's steps); every entry appended to ``report``."""
+    harmonics, sweep = {}, []
     for seg in (s for s in segments if s.kind in ("harmonic", "sweep")):
         wait = _resonance_wait(seg.frequency_hz, decay.poles if decay else ())
         windows = _steady(_harmonic_windows(data, poses, seg), q0,
@@ -546,8 +541,12 @@ def identify_measured(data, bench):
             continue
         beta = harmonic_axis(reading)[0]["beta"]
         harmonics[seg.name] = (seg, windows, reading, beta)
+    return harmonics, sweep
 
-    chosen = _pick_models(harmonics, decay)
+
+def _mode_models(name, harmonics, chosen, static_reading, decay, report):
+    """({label: AxisModel}, {label: covariance}, modal entries) of the torsion and bending
+    tests ``chosen`` (eqs. 8-11); the report's entry of each test gets its model label."""
     models, covs, modal = {}, {}, {}
     for label in MODEL_LABELS:
         if label not in chosen:
@@ -559,53 +558,97 @@ def identify_measured(data, bench):
                                                                   decay)
         models[label], covs[label] = mode_model(reading, static_reading, omega, zeta,
                                                 omega_var, zeta_var)
-        check_positive_k(bench.name, label, models[label])
+        check_positive_k(name, label, models[label])
         for e in report:
             if e["name"] == seg.name:
                 e["model"] = label
     modal["n_samples_decay"] = decay.n_samples if decay else 0
+    return models, covs, modal
+
+
+def _other_axes(harmonics, chosen):
+    """{name: AxisModel} of the harmonic tests that are neither the torsion nor the bending one."""
+    out = {}
     for name, (seg, _, reading, _) in harmonics.items():
         if name not in chosen.values():
             values, _, ci, info = harmonic_axis(reading)
-            others_raw[name] = AxisModel({"f_hz": float(seg.frequency_hz), **values}, ci, info)
+            out[name] = AxisModel({"f_hz": float(seg.frequency_hz), **values}, ci, info)
+    return out
 
+
+def _stiffness_split(static, static_cov, models, covs, notes):
+    """k_t, k_b by eq. (12) when both mode models exist, else NaN with the reason in ``notes``."""
     if "torsion" in models and "bending" in models:
-        split = split_model(static.values, static_cov, models["torsion"].values,
-                            covs["torsion"], models["bending"].values, covs["bending"])
-    else:
-        missing = " and ".join(label for label in MODEL_LABELS if label not in models)
-        problem = (f"no {missing} test in the measurements (a harmonic test whose axis is "
-                   f"within 45 deg of O-q0 is the torsion test, else the bending test)")
-        notes.append(problem)
-        split = AxisModel({"k_t": math.nan, "k_b": math.nan},
-                          {"k_t": [math.nan] * 2, "k_b": [math.nan] * 2},
-                          {"split_identifiable": False, "split_problem": problem})
-    for label, model in models.items():
-        if not math.isfinite(model["c"]):
-            notes.append(f"{label}: c not identified ({modal[label]['source']})")
-    report.append(static_seg.summary(data.t) | {"used": True, "model": "static"})
+        return split_model(static.values, static_cov, models["torsion"].values,
+                           covs["torsion"], models["bending"].values, covs["bending"])
+    missing = " and ".join(label for label in MODEL_LABELS if label not in models)
+    problem = (f"no {missing} test in the measurements (a harmonic test whose axis is "
+               f"within 45 deg of O-q0 is the torsion test, else the bending test)")
+    notes.append(problem)
+    return AxisModel({"k_t": math.nan, "k_b": math.nan},
+                     {"k_t": [math.nan] * 2, "k_b": [math.nan] * 2},
+                     {"split_identifiable": False, "split_problem": problem})
+
+
+def _static_entries(data, statics, static_seg):
+    """The report's entries of the static tests: the one used and the others."""
+    entries = [static_seg.summary(data.t) | {"used": True, "model": "static"}]
     for seg in statics:
         if seg is not static_seg:
-            report.append(seg.summary(data.t) | {"used": False,
+            entries.append(seg.summary(data.t) | {"used": False,
                                                   "note": "another static test (the first "
                                                           "one is used)"})
-    moment_readings, units, moment_report = _moment_tests(data, poses, q0, ref_frames)
+    return entries
+
+
+def _principal(data, poses, bench, ref_frames, static_seg, static_reading, report):
+    """The principal hinges from the static test and the moment tests (their entries appended
+    to ``report``), the loads as measured."""
+    moment_readings, units, moment_report = _moment_tests(data, poses, bench.q0, ref_frames)
     report += moment_report
     sel = slice(static_seg.read_start, static_seg.read_stop)
     units["static"] = data.wrench[sel].mean(axis=0) / static_reading.force
-    principal = identify_principal({"static": static_reading, **moment_readings}, q0,
-                                   bench.carried, units)
+    return identify_principal({"static": static_reading, **moment_readings}, bench.q0,
+                              bench.carried, units)
+
+
+def identify_measured(data, bench):
+    """MeasuredIdentification of Measurements ``data`` with a BenchFile (module doc).
+
+    MeasurementError (naming the file, the row and the column) when the data cannot give an
+    identification: no static test, markers that do not fit the reference, too few frames
+    before the first load for ``markers: from_data``.
+    """
+    q0 = bench.q0
+    segments, noise, threshold = find_tests(data.t, data.force, data.labels, data.source)
+    segments = [s for s in segments if not (s.labelled and s.name in MOMENT_TESTS)]
+    loaded = np.flatnonzero(np.abs(data.force) > threshold)
+    reference, ref_frames, ref_text = _reference(data, bench, int(loaded[0]))
+    poses, residual = fit_poses(data.markers, reference, q0)
+    _check_rigid(data, bench, residual, ref_text)
+    statics, static_seg, static_reading = _static_test(data, poses, segments, ref_frames)
+    static, static_cov = static_model(static_reading, q0)
+    check_positive_k(bench.name, "static", static)
+    notes, report = [], []
+    decay, decay_seg, filled = _free_decay(data, poses, segments, q0, bench.noise_m, report)
+    harmonics, sweep = _harmonic_tests(data, poses, segments, q0, decay, report)
+    chosen = _pick_models(harmonics, decay)
+    models, covs, modal = _mode_models(bench.name, harmonics, chosen, static_reading, decay,
+                                       report)
+    split = _stiffness_split(static, static_cov, models, covs, notes)
+    for label, model in models.items():
+        if not math.isfinite(model["c"]):
+            notes.append(f"{label}: c not identified ({modal[label]['source']})")
+    report += _static_entries(data, statics, static_seg)
+    principal = _principal(data, poses, bench, ref_frames, static_seg, static_reading, report)
     report.sort(key=lambda e: e["t_start"])
-    counts = dict(data.counts)
-    counts["decay_frames_filled"] = filled
     measured = {"source": data.source, "bench": bench.source, "reference": ref_text,
-                "frames": len(data.t), "markers": data.n_markers, "counts": counts,
+                "frames": len(data.t), "markers": data.n_markers,
+                "counts": dict(data.counts) | {"decay_frames_filled": filled},
                 "load_noise_n": noise, "load_threshold_n": threshold,
                 "rigid_fit_residual_m": float(np.median(residual)),
                 "decay_test": decay_seg.name if decay_seg else None,
                 "tests": report, "notes": notes}
     return MeasuredIdentification(bench.name, static, models.get("torsion"),
                                   models.get("bending"), split, tuple(sweep), modal,
-                                  others_raw, principal, measured)
-
-
+                                  _other_axes(harmonics, chosen), principal, measured)

@@ -63,13 +63,58 @@ def unwrap_axis(beta, b, reference):
 
 
 def wrap_axis(beta, b):
-    """(beta, b) with beta wrapped into [0, pi) and b following it (eq. 7)."""
+    """(beta, b) with beta wrapped into [0, pi) and b following it (eq. 7).
+
+    Parameters
+    ----------
+    beta : float
+        Axis angle to O-q0 [rad], any value.
+    b : float
+        Moment arm [m] that goes with it, b = (L - l) sin(beta).
+
+    Returns
+    -------
+    (float, float)
+        beta [rad] in [0, pi) and b [m]: the same axis line.
+
+    Examples
+    --------
+    Turning the axis by pi flips the sign of sin(beta), so of b:
+
+    >>> beta, b = wrap_axis(np.pi + 0.5, 0.2)
+    >>> round(beta, 12), b
+    (0.5, -0.2)
+
+    """
     wrapped = float(np.mod(beta, np.pi))
     return wrapped, b * (-1.0) ** int(round((wrapped - beta) / np.pi))
 
 
 def joint_distance_from_arm(beta, b, length):
-    """Joint distance l = L - b / sin(beta) [m]: eq. (7) solved for l."""
+    """Joint distance l = L - b / sin(beta) [m]: eq. (7) solved for l.
+
+    Parameters
+    ----------
+    beta : float
+        Axis angle to O-q0 [rad] (eq. 6).
+    b : float
+        Moment arm [m] (eq. 7).
+    length : float
+        L = |O-q0| [m].
+
+    Returns
+    -------
+    float
+        l [m].
+
+    Examples
+    --------
+    L = 1 m, an axis at 30 deg with the arm 0.3 m meets O-q0 at 0.4 m (0.6 sin 30 deg = 0.3):
+
+    >>> round(float(joint_distance_from_arm(np.pi / 6, 0.3, 1.0)), 12)
+    0.4
+
+    """
     return length - b / np.sin(beta)
 
 

@@ -183,7 +183,36 @@ def end_compliance(motions, amplitudes, wrenches):
 
 def hinge_compliance(k, l, beta, q0):
     """The compliance v v^T / k (3 x 3) of a hinge: k [N m/rad], l [m], beta [rad] (eqs. 5-7),
-    v = (b, cos phi, sin phi), phi = atan2(z_q0, x_q0) + beta, b = (L - l) sin(beta)."""
+    v = (b, cos phi, sin phi), phi = atan2(z_q0, x_q0) + beta, b = (L - l) sin(beta).
+
+    Parameters
+    ----------
+    k : float
+        Hinge stiffness [N m/rad].
+    l : float
+        Joint distance from O along O-q0 [m] (eq. 5).
+    beta : float
+        Axis angle to O-q0 [rad] (eq. 6).
+    q0 : array (3,)
+        Loaded end, unloaded [m].
+
+    Returns
+    -------
+    array (3, 3)
+        Compliance in (u_y, theta_x, theta_z) per (F_y, M_x, M_z) [m/N, rad/N, m/(N m),
+        rad/(N m)].
+
+    Examples
+    --------
+    A vertical hinge (beta = 90 deg to O-q0 along x) at 0.4 m with k = 1e4 N m/rad, q0 at 1 m:
+    F_y = 1 N turns it by 0.6 / k and moves the end by 0.6^2 / k; M_z = 1 N m turns it by
+    1 / k; M_x does nothing:
+
+    >>> c = hinge_compliance(1e4, 0.4, np.pi / 2, [1.0, 0.0, 0.0])
+    >>> (np.round(c * 1e4, 12) + 0.0).tolist()
+    [[0.36, 0.0, 0.6], [0.0, 0.0, 0.0], [0.6, 0.0, 1.0]]
+
+    """
     theta0 = np.arctan2(q0[2], q0[0])
     b = (np.hypot(q0[0], q0[2]) - l) * np.sin(beta)
     v = np.array([b, np.cos(theta0 + beta), np.sin(theta0 + beta)])

@@ -46,7 +46,28 @@ class DeformationAxis:
 
 
 def plane_offset(n, q):
-    """Eq. (1): a4 = -(a1 x_q + a2 y_q + a3 z_q) of the deformed plane n.x + a4 = 0 [m]."""
+    """Eq. (1): a4 = -(a1 x_q + a2 y_q + a3 z_q) of the deformed plane n.x + a4 = 0 [m].
+
+    Parameters
+    ----------
+    n : array (3,)
+        Unit normal (a1, a2, a3) of the deformed symmetry plane, n = R_y [-].
+    q : array (3,)
+        Loaded end position, loaded [m].
+
+    Returns
+    -------
+    float
+        Plane offset a4 [m].
+
+    Examples
+    --------
+    The symmetry plane moved sideways by 2 mm without turning, y = 0.002, has a4 = -0.002 m:
+
+    >>> plane_offset([0.0, 1.0, 0.0], [1.0, 0.002, 0.5])
+    -0.002
+
+    """
     return -float(np.dot(n, q))
 
 
@@ -57,6 +78,33 @@ def joint_position(n, a4, q0):
     z = (z_q0 / x_q0) x gives eq. (3) x_j = -a4 / (a1 + a3 z_q0 / x_q0) and eq. (4). It is
     evaluated here along the unit vector e0 = (x_q0, z_q0)/L, x_j = s e0_x, z_j = s e0_z with
     s = -a4 / (a1 e0_x + a3 e0_z), which is the same point and stays finite when x_q0 = 0.
+
+    Parameters
+    ----------
+    n : array (3,)
+        Unit normal of the deformed symmetry plane, n = R_y [-].
+    a4 : float
+        Plane offset [m] (eq. 1).
+    q0 : array (3,)
+        Loaded end, unloaded [m].
+
+    Returns
+    -------
+    (float, float)
+        x_j, z_j [m].
+
+    Examples
+    --------
+    A turn of theta about the vertical axis through (0.4, 0, 0), load at q0 = (1, 0, 0): the
+    plane normal is (-sin theta, cos theta, 0), its offset a4 = 0.4 sin theta, and the joint is
+    back at x = 0.4 m whatever theta:
+
+    >>> theta = 0.01
+    >>> n = [-np.sin(theta), np.cos(theta), 0.0]
+    >>> x_j, z_j = joint_position(n, 0.4 * np.sin(theta), [1.0, 0.0, 0.0])
+    >>> round(float(x_j), 12), round(float(z_j), 12)
+    (0.4, 0.0)
+
     """
     length = np.hypot(q0[0], q0[2])
     e0x, e0z = q0[0] / length, q0[2] / length
@@ -70,6 +118,29 @@ def joint_distance(x_j, z_j, q0):
     The cosine is +1 when the joint lies on the same side of O as q0 and -1 otherwise, so l is
     the signed distance of the joint from O along the direction of q0 (computed as a projection,
     which is identical and has no division by x).
+
+    Parameters
+    ----------
+    x_j, z_j : float
+        The joint in the component's x-z plane [m] (eqs. 3-4).
+    q0 : array (3,)
+        Loaded end, unloaded [m].
+
+    Returns
+    -------
+    float
+        l [m], negative when the joint lies behind O.
+
+    Examples
+    --------
+    q0 = (3, 0, 4) m: a joint at (0.3, 0, 0.4) is 0.5 m from O towards q0, one at
+    (-0.3, 0, -0.4) is 0.5 m behind it:
+
+    >>> float(joint_distance(0.3, 0.4, [3.0, 0.0, 4.0]))
+    0.5
+    >>> float(joint_distance(-0.3, -0.4, [3.0, 0.0, 4.0]))
+    -0.5
+
     """
     length = np.hypot(q0[0], q0[2])
     return (x_j * q0[0] + z_j * q0[2]) / length
@@ -80,6 +151,32 @@ def axis_angle(n, q0):
 
     The axis direction in the x-z plane is (a3, -a1); atan2 of it differs from atan(-a1/a3) by
     a multiple of pi, which the wrapping removes, so the result is eq. (6) exactly.
+
+    Parameters
+    ----------
+    n : array (3,)
+        Unit normal of the deformed symmetry plane, n = R_y [-].
+    q0 : array (3,)
+        Loaded end, unloaded [m].
+
+    Returns
+    -------
+    float
+        beta [rad] in [0, pi).
+
+    Examples
+    --------
+    A small turn theta about the axis a = (cos 30 deg, 0, sin 30 deg) moves the normal from e_y
+    to e_y + theta a x e_y = (-theta sin 30 deg, 1, theta cos 30 deg); with q0 on the x axis
+    beta is 30 deg, and the opposite turn gives the same axis:
+
+    >>> theta, a = 1e-3, np.radians(30.0)
+    >>> q0 = [1.0, 0.0, 0.0]
+    >>> round(float(np.degrees(axis_angle([-theta * np.sin(a), 1.0, theta * np.cos(a)], q0))), 9)
+    30.0
+    >>> round(float(np.degrees(axis_angle([theta * np.sin(a), 1.0, -theta * np.cos(a)], q0))), 9)
+    30.0
+
     """
     theta_j = np.arctan2(-n[0], n[2])
     theta_0 = np.arctan2(q0[2], q0[0])
@@ -87,13 +184,63 @@ def axis_angle(n, q0):
 
 
 def moment_arm(l, beta, q0):
-    """Eq. (7): b = (L - l) sin(beta), L = sqrt(x_q0^2 + z_q0^2) [m]."""
+    """Eq. (7): b = (L - l) sin(beta), L = sqrt(x_q0^2 + z_q0^2) [m].
+
+    Parameters
+    ----------
+    l : float
+        Joint distance from O along O-q0 [m] (eq. 5).
+    beta : float
+        Axis angle to the line O-q0 [rad] (eq. 6).
+    q0 : array (3,)
+        Loaded end, unloaded [m].
+
+    Returns
+    -------
+    float
+        b [m], the distance of q0 from the axis (signed with sin(beta)).
+
+    Examples
+    --------
+    L = 1 m, joint at 0.4 m: an axis across O-q0 has the arm 0.6 m, one at 30 deg half of it:
+
+    >>> q0 = [0.6, 0.0, 0.8]
+    >>> round(float(moment_arm(0.4, np.pi / 2, q0)), 12)
+    0.6
+    >>> round(float(moment_arm(0.4, np.pi / 6, q0)), 12)
+    0.3
+
+    """
     length = np.hypot(q0[0], q0[2])
     return (length - l) * np.sin(beta)
 
 
 def axis_stiffness(force, y_q, b):
-    """Eq. (8): k = F_st b / asin(y_qst / b) [N m/rad], F_st [N], y_qst [m], b [m]."""
+    """Eq. (8): k = F_st b / asin(y_qst / b) [N m/rad], F_st [N], y_qst [m], b [m].
+
+    Parameters
+    ----------
+    force : float
+        Static lateral load F_st at q0 [N].
+    y_q : float
+        Lateral displacement y_qst of the loaded end under it [m].
+    b : float
+        Moment arm of the load about the axis [m] (eq. 7).
+
+    Returns
+    -------
+    float
+        k [N m/rad].
+
+    Examples
+    --------
+    A spring k = 1e4 N m/rad with the arm b = 0.5 m under F = 100 N turns by
+    theta = F b / k = 5 mrad, so the end moves y = b sin(theta); eq. (8) gives k back:
+
+    >>> round(float(axis_stiffness(100.0, 0.5 * np.sin(0.005), 0.5)), 6)
+    10000.0
+
+    """
     return force * b / np.arcsin(y_q / b)
 
 
@@ -104,6 +251,34 @@ def deformation_axis(q, rotation, q0):
     :class:`DeformationAxis`. An axis parallel to the line O-q0 (within PARALLEL_TOL, e.g. a
     straight tube twisting about itself) has no joint on that line: l, x_j, z_j are NaN and b is
     the distance of q0 from the axis.
+
+    Parameters
+    ----------
+    q : array (3,)
+        Loaded end position, loaded [m].
+    rotation : array (3, 3)
+        Loaded end orientation R [-]; its second column is the plane normal n.
+    q0 : array (3,)
+        Loaded end, unloaded [m].
+
+    Returns
+    -------
+    DeformationAxis
+        l [m], beta [rad], b [m], x_j, z_j [m].
+
+    Examples
+    --------
+    The end q0 = (1, 0, 0) turned by 0.01 rad about the vertical axis through (0.4, 0, 0):
+    the joint is at l = 0.4 m, the axis across O-q0 (beta = pi/2) and the arm 0.6 m:
+
+    >>> theta = 0.01
+    >>> rot = np.array([[np.cos(theta), -np.sin(theta), 0.0],
+    ...                 [np.sin(theta), np.cos(theta), 0.0], [0.0, 0.0, 1.0]])
+    >>> q = np.array([0.4, 0.0, 0.0]) + rot @ [0.6, 0.0, 0.0]
+    >>> axis = deformation_axis(q, rot, [1.0, 0.0, 0.0])
+    >>> round(axis.l, 12), round(axis.beta / np.pi, 12), round(axis.b, 12)
+    (0.4, 0.5, 0.6)
+
     """
     q = np.asarray(q, dtype=float)
     q0 = np.asarray(q0, dtype=float)

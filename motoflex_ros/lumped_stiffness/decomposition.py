@@ -55,6 +55,16 @@ def decompose_stiffness(k, beta, b, beta_t, b_t, beta_b, b_b):
     StiffnessSplit
         k_t, k_b [N m/rad].
 
+    Examples
+    --------
+    Torsion and bending axes at 45 and 135 deg to O-q0, both with the arm 1 m, and the static
+    axis across O-q0 (90 deg, arm 1 m) with k = 5000 N m/rad: the static axis bisects the two,
+    so by symmetry k_t = k_b, and (12a) 1/k = 1/k_t + 1/k_b gives 10000 N m/rad each:
+
+    >>> split = decompose_stiffness(5000.0, np.pi / 2, 1.0, np.pi / 4, 1.0, 3 * np.pi / 4, 1.0)
+    >>> round(split.k_t, 6), round(split.k_b, 6)
+    (10000.0, 10000.0)
+
     """
     a = np.array([[b_b, b_t], [np.sin(beta - beta_b), -np.sin(beta_t - beta)]])
     rhs = np.array([b**2 / k, 0.0])
@@ -85,6 +95,32 @@ def static_stiffness_from_split(k_t, k_b, beta_t, b_t, beta_b, b_b, b):
     The small rotations about the torsion and bending axes add as vectors (u along beta_b,
     w along beta_t), which gives beta by (12b); k about that axis with arm b [m] follows from
     (12a): k = b^2 / (b_b^2/k_b + b_t^2/k_t).
+
+    Parameters
+    ----------
+    k_t, k_b : float
+        Stiffness about the torsion and bending axes [N m/rad].
+    beta_t, b_t : float
+        Torsion axis angle to O-q0 [rad] and arm [m].
+    beta_b, b_b : float
+        Bending axis angle [rad] and arm [m].
+    b : float
+        Arm of the static axis [m] (eq. 7).
+
+    Returns
+    -------
+    (float, float)
+        beta [rad] in [0, pi) and k [N m/rad] of the static axis.
+
+    Examples
+    --------
+    Two equal 1e4 N m/rad springs about axes at 45 and 135 deg with equal arms turn the end
+    about the bisector (90 deg), with half the stiffness for the same arm:
+
+    >>> beta, k = static_stiffness_from_split(1e4, 1e4, np.pi / 4, 1.0, 3 * np.pi / 4, 1.0, 1.0)
+    >>> round(beta / np.pi, 12), round(k, 6)
+    (0.5, 5000.0)
+
     """
     u, w = b_b / k_b, b_t / k_t
     beta = float(np.mod(np.arctan2(u * np.sin(beta_b) + w * np.sin(beta_t),

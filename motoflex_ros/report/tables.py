@@ -15,6 +15,8 @@ from motoflex_ros.structures.paper_tables import (
     paper_table1_eigenfrequencies,
     paper_table2_stiffness,
 )
+from motoflex_ros.study.accuracy import QUANTITIES
+from motoflex_ros.study.factorial import FACTORS
 
 __all__ = ["Cell", "Table", "components_table", "table1", "table2", "identification_table",
            "whipple_table", "accuracy_table", "anova_table", "pearson_table", "timings_table",
@@ -24,9 +26,7 @@ __all__ = ["Cell", "Table", "components_table", "table1", "table2", "identificat
            "paper_cell", "diff_cell", "ASSUMED_C_NOTE"]
 
 VARIANTS = ("state_of_the_art", "static", "torsion", "bending", "principal")
-QUANTITIES = ("weave_f", "weave_re", "wobble_f", "wobble_re")
 INDICES = ("weave_low", "weave_high", "wobble_low", "wobble_high")
-FACTORS = ("k_tf", "k_bf", "k_ta", "k_ba", "k_ts", "k_bs")
 
 
 @dataclass(frozen=True)

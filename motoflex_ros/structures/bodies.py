@@ -29,7 +29,7 @@ import scipy.sparse as sp
 from motoflex_ros.errors import ModelError
 from motoflex_ros.spatial import skew
 from motoflex_ros.structures.assembly import Structure, rigid_body_mass, rigid_field
-from motoflex_ros.structures.craig_bampton import craig_bampton
+from motoflex_ros.structures.craig_bampton import F_MAX_HZ, N_MODES, craig_bampton
 
 __all__ = ["FlexibleBody", "BodyAssembly", "split_bodies", "body_mass_properties",
            "reduce_bodies", "assemble_bodies"]
@@ -181,7 +181,7 @@ def _body_name(component, nodes):
                                        f"node{nodes[0]}")
 
 
-def reduce_bodies(component, n_modes=20, f_max_hz=600.0):
+def reduce_bodies(component, n_modes=N_MODES, f_max_hz=F_MAX_HZ):
     """FlexibleBody list of ``component``: each body reduced by Craig-Bampton with all DOFs of
     its boundary nodes kept (Table A.1: 20 modes per body, content up to 600 Hz)."""
     structure = component.structure

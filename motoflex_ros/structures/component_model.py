@@ -25,7 +25,7 @@ from motoflex_ros.structures.clamped import (
     clamped_frequencies,
     reduce_clamped,
 )
-from motoflex_ros.structures.craig_bampton import craig_bampton
+from motoflex_ros.structures.craig_bampton import F_MAX_HZ, N_MODES, craig_bampton
 from motoflex_ros.structures.reduction_cache import load_reduction, reduction_key, store_reduction
 
 __all__ = ["ComponentModel", "Component", "tube_component", "DEFAULT_DAMPING_RATIO"]
@@ -92,7 +92,7 @@ class ComponentModel:
         return {by_index.get(i, f"node{i}"): self.origin + self.node_xyz[i]
                 for i in self.interface_nodes}
 
-    def craig_bampton(self, n_modes=20, f_max_hz=600.0, zeta=None):
+    def craig_bampton(self, n_modes=N_MODES, f_max_hz=F_MAX_HZ, zeta=None):
         """Craig-Bampton model with all DOFs of all interface nodes as boundary.
 
         ``zeta`` [-] (None: the component's ``damping_ratio``) as in :meth:`clamped_reduced`.
@@ -140,7 +140,7 @@ class ComponentModel:
             except ModelError as exc:
                 raise ConfigError(self.source or self.name, "damping_ratio", str(exc)) from None
 
-    def clamped_reduced(self, n_modes=20, f_max_hz=600.0, zeta=None):
+    def clamped_reduced(self, n_modes=N_MODES, f_max_hz=F_MAX_HZ, zeta=None):
         """Clamped reduced model (clamp-node DOFs removed) for the bench: ReducedComponent.
 
         ``zeta`` [-] is the damping ratio of the clamped reduced model's modes: one for all or

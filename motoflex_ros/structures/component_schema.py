@@ -13,21 +13,20 @@ from motoflex_ros.inertia import check_inertia
 from motoflex_ros.limits import check_limit
 from motoflex_ros.structures.assembly import Structure
 from motoflex_ros.structures.beam import Material, rectangular_tube_section, tube_section
+from motoflex_ros.structures.physical_ranges import (
+    COMPONENT_SIZE_M,
+    DENSITY,
+    MODULUS_PA,
+    PART_INERTIA_MAX,
+    PART_MASS_MAX_KG,
+)
 
 __all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "structure_from_config"]
 
-# Physical ranges of every number (SI): wide enough for any metal, composite or polymer
-# component on a bench, narrow enough that no value overflows the stiffness and mass matrices
-# (E = 1e300 made the interior stiffness singular) or underflows a section (an outer diameter
-# of 1e6 m with a 0.04 m tube gave a division by zero).
-MODULUS_PA = (1e5, 1e15)  # foam to 5,000 x steel (a nearly rigid modelling material)
-DENSITY = (1.0, 1e5)  # [kg/m^3]
-COMPONENT_SIZE_M = 10.0  # coordinates and lengths of a component [m]
+# Physical ranges of every number (SI); those the mesh schema shares are in physical_ranges.
 SECTION_SIZE_M = (1e-4, 2.0)  # outer diameter, width, height [m]
 WALL_M = (1e-5, 1.0)
 SPRING_MAX = 1e12  # [N/m] and [N m/rad]; a rigid connection is a rigid link
-PART_MASS_MAX_KG = 1e4
-PART_INERTIA_MAX = 1e4  # [kg m^2]
 
 _MATERIAL = Field("mapping", fields={
     "E": number(*MODULUS_PA, help="Young's modulus [Pa]"),

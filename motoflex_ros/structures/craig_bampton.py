@@ -28,8 +28,13 @@ from motoflex_ros.config import shown
 from motoflex_ros.errors import ModelError
 from motoflex_ros.structures.sparse_solver import factorize_spd
 
-__all__ = ["CraigBamptonModel", "craig_bampton", "interior_blocks", "fixed_interface_modes",
-           "checked_damping_ratio"]
+__all__ = ["N_MODES", "F_MAX_HZ", "CraigBamptonModel", "craig_bampton", "interior_blocks",
+           "fixed_interface_modes", "checked_damping_ratio"]
+
+N_MODES = 20
+"""Fixed-interface normal modes kept per body, at most: the paper's Appendix A (Table A.1)."""
+F_MAX_HZ = 600.0
+"""No fixed-interface mode above this frequency [Hz] is kept: the paper's Appendix A."""
 
 
 @dataclass(frozen=True)
@@ -99,7 +104,8 @@ def fixed_interface_modes(k_ii, m_ii, factor, n_modes, f_max_hz):
     return freq[keep], phi * np.where(largest < 0, -1.0, 1.0)
 
 
-def craig_bampton(K, M, boundary, n_modes=20, f_max_hz=600.0, zeta=0.01, solver="auto"):
+def craig_bampton(K, M, boundary, n_modes=N_MODES, f_max_hz=F_MAX_HZ, zeta=0.01,
+                  solver="auto"):
     """Craig-Bampton reduction of (K, M) keeping ``boundary`` DOFs physical.
 
     Parameters

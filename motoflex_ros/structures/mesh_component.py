@@ -46,6 +46,13 @@ from motoflex_ros.spatial import skew
 from motoflex_ros.structures.assembly import AssembledStructure, rigid_body_mass
 from motoflex_ros.structures.component_model import DEFAULT_DAMPING_RATIO, ComponentModel
 from motoflex_ros.structures.mesh_file import UNITS, read_mesh
+from motoflex_ros.structures.physical_ranges import (
+    COMPONENT_SIZE_M,
+    DENSITY,
+    MODULUS_PA,
+    PART_INERTIA_MAX,
+    PART_MASS_MAX_KG,
+)
 from motoflex_ros.structures.solid import CORNERS, ElementError, assemble_solid
 
 __all__ = ["MeshComponent", "Spider", "MESH_SCHEMA", "load_mesh_component", "spider_transform",
@@ -53,12 +60,7 @@ __all__ = ["MeshComponent", "Spider", "MESH_SCHEMA", "load_mesh_component", "spi
 
 NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
-MODULUS_PA = (1e5, 1e15)
-DENSITY = (1.0, 1e5)
-COMPONENT_SIZE_M = 10.0
 COORDINATE_MAX = 1e4  # [file units]: 10 m in mm
-PART_MASS_MAX_KG = 1e4
-PART_INERTIA_MAX = 1e4
 COLLINEAR_SHARE = 1e-6  # second singular value of a set's spread over its size: a line
 
 _POSITION = Field("vec3", -COORDINATE_MAX, COORDINATE_MAX)

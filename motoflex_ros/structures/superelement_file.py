@@ -36,8 +36,12 @@ from motoflex_ros.files import atomic_write_bytes, atomic_write_text, missing_fi
 from motoflex_ros.input_pins import read_input
 from motoflex_ros.structures.assembly import AssembledStructure
 from motoflex_ros.structures.component_model import DEFAULT_DAMPING_RATIO, ComponentModel
-from motoflex_ros.structures.craig_bampton import CraigBamptonModel, checked_damping_ratio
-from motoflex_ros.structures.mesh_component import mesh_component_name
+from motoflex_ros.structures.craig_bampton import (
+    F_MAX_HZ,
+    N_MODES,
+    CraigBamptonModel,
+    checked_damping_ratio,
+)
 from motoflex_ros.structures.mesh_file import UNITS
 
 __all__ = ["SuperelementComponent", "SUPERELEMENT_SCHEMA", "load_superelement_component",
@@ -107,7 +111,7 @@ class SuperelementComponent(ComponentModel):
         return AssembledStructure(K=sp.csc_matrix(self.K), M=sp.csc_matrix(self.M),
                                   expand=expand, free_index=np.arange(nb))
 
-    def craig_bampton(self, n_modes=20, f_max_hz=600.0, zeta=None):
+    def craig_bampton(self, n_modes=N_MODES, f_max_hz=F_MAX_HZ, zeta=None):
         """The superelement's own reduction (``n_modes`` and ``f_max_hz`` do not apply: its
         generalized coordinates are what the FE tool kept). Returns (CraigBamptonModel,
         AssembledStructure)."""
@@ -235,6 +239,7 @@ def _check_physical(k, m, n_clamped, files, source):
 
 def load_superelement_component(cfg, path, damping_ratio):
     """SuperelementComponent from a validated SUPERELEMENT_SCHEMA configuration."""
+    from motoflex_ros.structures.mesh_component import mesh_component_name
     source = str(path)
     spec = cfg["superelement"]
     base = Path(path).parent
@@ -285,7 +290,7 @@ def load_superelement_component(cfg, path, damping_ratio):
         source=source, damping_ratio=damping_ratio)
 
 
-def export_superelement(component, directory, n_modes=20, f_max_hz=600.0):
+def export_superelement(component, directory, n_modes=N_MODES, f_max_hz=F_MAX_HZ):
     """Write ``component``'s Craig-Bampton model as a superelement: ``<name>_K.mtx``,
     ``<name>_M.mtx`` (Matrix Market, 17 digits) and ``<name>.yaml`` in ``directory``; returns
     the YAML's path. The interface nodes are named as in the component (node<i> otherwise)."""

@@ -8,7 +8,8 @@ lumped motorcycle). Submodules are imported explicitly; this package imports not
 
 Also: identified_variants (the paper's lumped variants from identification results),
 load_variants (hinges from vehicle-like bench loads), vehicle_load (the wrench a component
-carries in a mode), fitted and hinge_pencil (a hinge fitted to the flexible motorcycle),
+carries in a mode), fitted and hinge_pencil (a hinge fitted to the flexible motorcycle, with
+hinge_geometry, hinge_fit_problem and hinge_fit_result),
 lumped_accuracy (Sect. 5.2), flexible_sensitivity and tilt_stiffness (sensitivities of the
 flexible motorcycle), pulse_check (eigenvalues checked in the time domain), verdict (the
 least-damped point of each mode).

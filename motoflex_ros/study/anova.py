@@ -93,6 +93,27 @@ def anova(coded, response, factors, interactions=True):
     interactions : bool
         Include the two-factor interactions (the paper's model).
 
+    Returns
+    -------
+    AnovaResult
+        Sums of squares [response unit^2], degrees of freedom, F and p per term, the total sum
+        of squares and the main-effect share [-].
+
+    Examples
+    --------
+    A 2^3 design with the response 3 a + b + 0.5 a b: over the eight runs at +/-1 the sums of
+    squares are 8 x 3^2 = 72 for a, 8 for b, 8 x 0.5^2 = 2 for a:b and 0 for c, so the main
+    effects carry 80 of the total 82:
+
+    >>> import itertools
+    >>> coded = np.array(list(itertools.product([-1.0, 1.0], repeat=3)))
+    >>> y = 3 * coded[:, 0] + coded[:, 1] + 0.5 * coded[:, 0] * coded[:, 1]
+    >>> result = anova(coded, y, ("a", "b", "c"))
+    >>> [round(result.sum_of_squares(t), 9) + 0.0 for t in ("a", "b", "c", "a:b")]
+    [72.0, 8.0, 0.0, 2.0]
+    >>> round(result.main_share * 82, 9)
+    80.0
+
     """
     coded = np.asarray(coded, dtype=float)
     response = np.asarray(response, dtype=float)

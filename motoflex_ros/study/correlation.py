@@ -25,6 +25,18 @@ def pearson(factors, indices):
     array (n_indices, n_factors)
         rho_IF [-]; NaN where an index or a factor does not vary.
 
+    Examples
+    --------
+    An index that rises linearly with the first factor and falls with the second, which are
+    uncorrelated: rho = +1, -1 and 0 for a factor orthogonal to both:
+
+    >>> factors = np.array([[-1, -1, 1], [1, -1, -1], [-1, 1, -1], [1, 1, 1]])
+    >>> index = 2.0 * factors[:, 0] + 1.0
+    >>> (pearson(factors, index) + 0.0).tolist()
+    [[1.0, 0.0, 0.0]]
+    >>> (pearson(factors, -factors[:, 1]) + 0.0).tolist()
+    [[0.0, -1.0, 0.0]]
+
     """
     f = np.asarray(factors, dtype=float)
     i = np.asarray(indices, dtype=float)

@@ -17,6 +17,7 @@ import numpy as np
 from scipy.stats import qmc
 
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.structures.paper_tables import paper_table2_stiffness
 
 __all__ = ["FACTORS", "FACTOR_DESCRIPTIONS", "PAPER_TABLE2_NOMINAL", "Design", "full_factorial",
            "sampled_design"]
@@ -34,11 +35,8 @@ FACTOR_DESCRIPTIONS = {
 
 # the paper's Table 2 (k_t, k_b after decomposition, eq. 12) [N m/rad]: a published reference
 # point; a study normally starts from the values our own identification gives.
-PAPER_TABLE2_NOMINAL = {
-    "k_tf": 3.75e5, "k_bf": 3.59e6,
-    "k_ta": 5.95e3, "k_ba": 1.71e5,
-    "k_ts": 1.04e6, "k_bs": 1.39e5,
-}
+PAPER_TABLE2_NOMINAL = {factor: paper_table2_stiffness()[component][f"k_{axis[0]}"]
+                        for factor, (component, axis) in FACTOR_DESCRIPTIONS.items()}
 
 _SOURCE = "study design"
 

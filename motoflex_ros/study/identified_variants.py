@@ -7,7 +7,7 @@ front_assembly, swingarm): ``rigid``, ``flexible`` (Craig-Bampton superelements,
 ``torsion``, ``bending`` and ``decomposed`` models (:mod:`motoflex_ros.vehicle.lumped`), and
 the single hinges of ``HINGE_VARIANTS`` (``fitted``, ``road_load``, ``vehicle_load``: a
 static-like model whose l, beta, k the results carry under that name, e.g. from
-:meth:`motoflex_ros.study.fitted.HingeFit.identified`).
+:meth:`motoflex_ros.study.hinge_fit_result.HingeFit.identified`).
 ``identified`` is the identification of the bench campaign (the JSON of ``motoflex identify``);
 ``components`` maps a component name to its structures Component (placement, loaded end, the
 clamped finite-element model for the state-of-the-art static test). This is where

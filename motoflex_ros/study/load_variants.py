@@ -21,6 +21,7 @@ from motoflex_ros.bench.offline_campaign import setup_campaign
 from motoflex_ros.errors import ModelError
 from motoflex_ros.identify.results import ResultsFile
 from motoflex_ros.study.vehicle_load import mode_wrench
+from motoflex_ros.units import kmh_to_ms
 from motoflex_ros.vehicle import lumped
 
 __all__ = ["ROAD_WHEEL", "VEHICLE_LOAD_SPEED", "contact_point", "road_load_tests",
@@ -28,7 +29,7 @@ __all__ = ["ROAD_WHEEL", "VEHICLE_LOAD_SPEED", "contact_point", "road_load_tests
 
 ROAD_WHEEL = {"frame": "front", "front_assembly": "front", "swingarm": "rear"}
 """The tyre whose road load each component carries."""
-VEHICLE_LOAD_SPEED = 100.0 / 3.6
+VEHICLE_LOAD_SPEED = float(kmh_to_ms(100.0))
 """Default speed [m/s] of the mode whose wrench loads the vehicle_load test (100 km/h)."""
 
 

@@ -28,15 +28,17 @@ import numpy as np
 
 from motoflex_ros.bench.offline_campaign import setup_campaign
 from motoflex_ros.errors import ModelError
-from motoflex_ros.study.accuracy import rms_error_percent
-from motoflex_ros.study.fitted import fit_hinges, hinge_of, with_fitted
-from motoflex_ros.study.identified_variants import build_variant
+from motoflex_ros.study.accuracy import QUANTITIES, weave_wobble_errors
+from motoflex_ros.study.fitted import fit_hinges
+from motoflex_ros.study.hinge_fit_result import with_fitted
+from motoflex_ros.study.hinge_geometry import hinge_of
 from motoflex_ros.study.load_variants import (
     VEHICLE_LOAD_SPEED,
     road_load_tests,
     vehicle_load_tests,
     with_load_tests,
 )
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.lumped import COMPONENTS
 from motoflex_ros.vehicle.modes import modal_sweep
@@ -47,7 +49,6 @@ __all__ = ["CASES", "ACCURACY_VARIANTS", "PAPER_VARIANTS", "QUANTITIES", "Accura
 CASES = COMPONENTS + ("all",)
 PAPER_VARIANTS = ("state_of_the_art", "static", "torsion", "bending")
 ACCURACY_VARIANTS = PAPER_VARIANTS + ("principal", "fitted", "road_load", "vehicle_load")
-QUANTITIES = ("weave_f", "weave_re", "wobble_f", "wobble_re")
 
 
 @dataclass(frozen=True, eq=False)
@@ -98,15 +99,11 @@ def mode_errors(lumped, flexible, label):
 
     ``lumped``, ``flexible``: {"weave": eigenvalues over speed, "wobble": ...} [1/s].
     """
-    out = {}
     for mode in ("weave", "wobble"):
-        lu, fl = lumped[mode], flexible[mode]
-        if not (np.all(np.isfinite(lu)) and np.all(np.isfinite(fl))):
+        if not (np.all(np.isfinite(lumped[mode])) and np.all(np.isfinite(flexible[mode]))):
             raise ModelError(f"{label}: {mode} is not tracked at every speed, so eq. (18) "
                              "cannot be evaluated")
-        out[f"{mode}_f"] = float(rms_error_percent(lu.imag / (2 * np.pi), fl.imag / (2 * np.pi)))
-        out[f"{mode}_re"] = float(rms_error_percent(lu.real, fl.real))
-    return out
+    return {q: float(e) for q, e in weave_wobble_errors(lumped, flexible).items()}
 
 
 def accuracy_study(vehicle, components, identified, speeds, cases=CASES,

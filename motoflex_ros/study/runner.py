@@ -5,7 +5,7 @@ A study function takes a block of runs, ``{factor: array (runs,)}`` of physical 
 and wobble eigenvalues over speed). The design is cut into blocks of ``block_size`` runs; the
 same blocks are evaluated in both paths, so a deterministic study function gives identical
 results in process and on Dask. Bigger designs scale out by pointing ``scheduler`` at a
-cluster, never by a home-made pool (design.md, Sect. 6).
+cluster, never by a home-made pool (docs/performance.md, the sensitivity study on Dask).
 
 Dask workers should run single-threaded BLAS: a LocalCluster made here sets
 OPENBLAS_NUM_THREADS=1 (and OMP/MKL) in its worker processes; workers of an existing cluster

@@ -87,6 +87,22 @@ def max_real_part(speeds, real_parts, v_range):
     v_range : (float, float)
         v_min, v_max [m/s].
 
+    Returns
+    -------
+    array (runs,)
+        s1 [1/s].
+
+    Examples
+    --------
+    Re = -1, +1, -1 1/s at 0, 10 and 20 m/s: the peak is +1 at 10 m/s, and over 0-5 m/s the
+    largest value is where the line reaches 0:
+
+    >>> speeds, re = [0.0, 10.0, 20.0], [-1.0, 1.0, -1.0]
+    >>> max_real_part(speeds, re, (0.0, 20.0)).tolist()
+    [1.0]
+    >>> max_real_part(speeds, re, (0.0, 5.0)).tolist()
+    [0.0]
+
     """
     start, end, length = _segments_in_range(speeds, real_parts, v_range)
     inside = length > 0
@@ -98,7 +114,30 @@ def stable_fraction(speeds, real_parts, v_range):
 
     On each linear piece with end values a, b the stable part (Re <= 0) has the length
     L (max(-a, 0) + max(-b, 0)) / (|a| + |b|) (the crossing by linear interpolation), and L when
-    a = b = 0. Any number of crossings is handled. Arguments as :func:`max_real_part`.
+    a = b = 0. Any number of crossings is handled.
+
+    Parameters
+    ----------
+    speeds : array (speeds,)
+        Strictly increasing speed grid [m/s] covering ``v_range``.
+    real_parts : array (runs, speeds) or (speeds,)
+        Real part of the tracked mode [1/s].
+    v_range : (float, float)
+        v_min, v_max [m/s].
+
+    Returns
+    -------
+    array (runs,)
+        s2 [-] in [0, 1].
+
+    Examples
+    --------
+    The curve of :func:`max_real_part` crosses zero at 5 and 15 m/s: stable on 0-5 and
+    15-20 m/s, half the range:
+
+    >>> stable_fraction([0.0, 10.0, 20.0], [-1.0, 1.0, -1.0], (0.0, 20.0)).tolist()
+    [0.5]
+
     """
     start, end, length = _segments_in_range(speeds, real_parts, v_range)
     negative = np.maximum(-start, 0.0) + np.maximum(-end, 0.0)
@@ -108,14 +147,57 @@ def stable_fraction(speeds, real_parts, v_range):
 
 
 def combined_index(s1, s2):
-    """Eq. (15): s = |min(0, s1)| + s2 (see the module notes for the two situations)."""
+    """Eq. (15): s = |min(0, s1)| + s2 (see the module notes for the two situations).
+
+    Parameters
+    ----------
+    s1 : array or float
+        Largest real part over the range [1/s] (eq. 13).
+    s2 : array or float
+        Stable share of the range [-] (eq. 14).
+
+    Returns
+    -------
+    array or float
+        s (the |s1| part in 1/s, the s2 part dimensionless).
+
+    Examples
+    --------
+    Never crossed (s1 = -0.2 1/s, s2 = 1): s = 1.2; crossed (s1 = 0.3, s2 = 0.4): s = s2:
+
+    >>> float(combined_index(-0.2, 1.0)), float(combined_index(0.3, 0.4))
+    (1.2, 0.4)
+
+    """
     return np.abs(np.minimum(0.0, s1)) + s2
 
 
 def stability_index(speeds, real_parts, v_range):
     """Eqs. (13)-(15) for every run: a :class:`StabilityIndex` of arrays (runs,).
 
-    Arguments as :func:`max_real_part`; ``v_range`` may also be ``"low"`` or ``"high"``.
+    Parameters
+    ----------
+    speeds : array (speeds,)
+        Strictly increasing speed grid [m/s] covering ``v_range``.
+    real_parts : array (runs, speeds) or (speeds,)
+        Real part of the tracked mode [1/s].
+    v_range : (float, float) or str
+        v_min, v_max [m/s], or ``"low"`` (40-100 km/h) or ``"high"`` (100-210 km/h).
+
+    Returns
+    -------
+    StabilityIndex
+        s1 [1/s], s2 [-] and s per run.
+
+    Examples
+    --------
+    A mode at least 1 1/s inside the stable half-plane over 10-30 m/s: s1 = -1, s2 = 1,
+    s = 1 + |s1| = 2:
+
+    >>> index = stability_index([10.0, 20.0, 30.0], [[-2.0, -1.0, -3.0]], (10.0, 30.0))
+    >>> index.s1.tolist(), index.s2.tolist(), index.s.tolist()
+    ([-1.0], [1.0], [2.0])
+
     """
     if isinstance(v_range, str):
         v_range = speed_range(v_range)

@@ -1,7 +1,7 @@
 """Rolling contact of a toroidal tyre on flat ground (crown radius, contact frame, slip).
 
 Contact point, for a wheel with centre c, unit spin axis a, rolling radius r and crown radius
-r_c on ground with upward normal n (design.md sect. 7):
+r_c on ground with upward normal n (docs/vehicle-engine.md):
 
     rho = (r - r_c) e + r_c d,   P = c + rho
 

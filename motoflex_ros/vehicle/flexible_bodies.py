@@ -169,19 +169,59 @@ def body_elements(component, bodies, hangs, welds=None, open_springs=(), carried
     """
     source = component.source or component.name
     welds = dict(welds or {})
+    _check_names(component, bodies, hangs, welds, source)
+    beta = stiffness_damping_factor(component, bodies, zeta)
+    build = _Build(component, source, component.node_xyz + component.origin,
+                   {n: i for i, b in enumerate(bodies) for n in b.nodes}, {}, beta)
+    superelements = _hang_bodies(build, bodies, hangs, welds)
+    bushings, closures, left_open = _spring_elements(build, open_springs, carried)
+    spherical = _link_joints(build)
+    clamps = {_node_name(component, c): build.node_bodies[_node_name(component, c)]
+              for c in component.clamp_nodes}
+    weld_joints = [Joint(f"{component.name}_weld_{c}", "fixed", welds[c], at, _AXES[0],
+                         build.xyz[component.node_names[c]].copy(), cut=True)
+                   for c, at in clamps.items() if c in welds and welds[c] != at]
+    parts = [chain_parts(e) for e in bushings + superelements]
+    return BodyElements(component.name, tuple(superelements), tuple(bushings),
+                        tuple(b for p in parts for b in p[0]),
+                        tuple(j for p in parts for j in p[1]) + tuple(closures)
+                        + tuple(spherical) + tuple(weld_joints),
+                        build.node_bodies, clamps, welds, tuple(left_open), beta)
+
+
+@dataclass
+class _Build:
+    """What the steps of :func:`body_elements` share: the component, its name for messages,
+    node positions [m] (vehicle frame), {node index: body index}, {node name: engine body}
+    (filled by :func:`_hang_bodies`) and the damping factor beta [s]."""
+
+    component: object
+    source: str
+    xyz: np.ndarray
+    body_of: dict
+    node_bodies: dict
+    beta: float
+
+
+def _check_names(component, bodies, hangs, welds, source):
+    """ModelError when ``welds`` names a node that is no clamp or ``hangs`` a body that the
+    component does not have."""
     clamp_names = {_node_name(component, c) for c in component.clamp_nodes}
     unknown = sorted(set(welds) - clamp_names)
     if unknown:
         raise ModelError(f"{source}: welds name {', '.join(unknown)}, which are not clamps "
                          f"(clamps: {', '.join(sorted(clamp_names))})")
-    names = {b.name for b in bodies}
-    extra = sorted(set(hangs) - names)
+    extra = sorted(set(hangs) - {b.name for b in bodies})
     if extra:
         raise ModelError(f"{source}: hangs name bodies {', '.join(extra)} the component does "
                          f"not have (bodies: {', '.join(b.name for b in bodies)})")
-    beta = stiffness_damping_factor(component, bodies, zeta)
-    xyz = component.node_xyz + component.origin
-    superelements, node_bodies = [], {}
+
+
+def _hang_bodies(build, bodies, hangs, welds):
+    """The superelement of every elastic body, hung where ``hangs`` (or, for a rigid one-node
+    body, ``welds``) says; fills ``build.node_bodies``."""
+    component, source = build.component, build.source
+    superelements = []
     for body in bodies:
         elastic = body.n_modes > 0 or np.any(body.K)
         if body.name in hangs:
@@ -194,70 +234,84 @@ def body_elements(component, bodies, hangs, welds=None, open_springs=(), carried
         if not elastic:
             if len(body.nodes) != 1:
                 raise ModelError(f"{source}: body '{body.name}' has no stiffness")
-            node_bodies[_node_name(component, body.nodes[0])] = parent
+            build.node_bodies[_node_name(component, body.nodes[0])] = parent
             continue
-        se = body_superelement(component, body, parent, reference, beta)
+        se = body_superelement(component, body, parent, reference, build.beta)
         superelements.append(se)
-        node_bodies[_node_name(component, _node_index(component, reference))] = parent
+        build.node_bodies[_node_name(component, _node_index(component, reference))] = parent
         for label in se.end_labels:
-            node_bodies[label] = end_body(se, label)
-    body_of = {n: i for i, b in enumerate(bodies) for n in b.nodes}
+            build.node_bodies[label] = end_body(se, label)
+    return superelements
+
+
+def _spring_elements(build, open_springs, carried):
+    """(bushings, their closing or carrying joints, OpenSprings) of the springs that join two
+    bodies (module docstring; ``open_springs`` and ``carried`` as in :func:`body_elements`)."""
+    component, source, node_bodies = build.component, build.source, build.node_bodies
     wanted_open = {frozenset(pair) for pair in open_springs}
     carriers = {frozenset(pair): body for pair, body in (carried or {}).items()}
-    bushings, closures, spherical, left_open = [], [], [], []
+    bushings, closures, left_open = [], [], []
     for n1, n2, block in component.structure.springs:
-        if body_of[n1] == body_of[n2]:
+        if build.body_of[n1] == build.body_of[n2]:
             continue
         a, b = _node_name(component, n1), _node_name(component, n2)
-        gap = float(np.linalg.norm(xyz[n1] - xyz[n2]))
+        gap = float(np.linalg.norm(build.xyz[n1] - build.xyz[n2]))
         if gap > COINCIDENT_TOLERANCE:
             raise ModelError(f"{source}: the spring {a}-{b} joins nodes {gap:.3g} m apart; a "
                              "bushing joins coincident nodes")
         if frozenset((a, b)) in wanted_open:
             wanted_open.discard(frozenset((a, b)))
-            left_open.append(OpenSpring(a, b, node_bodies[a], node_bodies[b], xyz[n1].copy(),
-                                        np.array(block)))
+            left_open.append(OpenSpring(a, b, node_bodies[a], node_bodies[b],
+                                        build.xyz[n1].copy(), np.array(block)))
             continue
         carry = carriers.pop(frozenset((a, b)), None)
-        if carry is not None and carry not in (node_bodies[a], node_bodies[b]):
-            raise ModelError(f"{source}: carried: the spring {a}-{b} joins bodies on "
-                             f"'{node_bodies[a]}' and '{node_bodies[b]}', not '{carry}'")
-        if carry is not None and node_bodies[a] == carry:
-            a, b = b, a     # hang from the other node's body: x = u_b - u_a, same energy
-        if node_bodies[a] == node_bodies[b]:
-            continue        # both ends on one rigid vehicle body: the spring never deforms
-        element = bushing(f"{component.name}_{a}_{b}", node_bodies[a], xyz[n1], block,
-                          beta * np.asarray(block))
-        bushings.append(element)
-        closures.append(Joint(f"{element.name}_close" if carry is None else
-                              f"{element.name}_carry", "fixed", end_body(element),
-                              node_bodies[b], _AXES[0], xyz[n1].copy(), cut=carry is None))
+        built = _bushing(build, a, b, n1, block, carry)
+        if built is not None:
+            bushings.append(built[0])
+            closures.append(built[1])
     for what, left in (("open_springs", wanted_open), ("carried", carriers)):
         if left:
             pairs = ", ".join("-".join(sorted(p)) for p in left)
             raise ModelError(f"{source}: {what} {pairs}: no spring joins two bodies there")
+    return bushings, closures, left_open
+
+
+def _bushing(build, a, b, n1, block, carry):
+    """(bushing, joint) of the spring between nodes ``a`` and ``b`` (names) at node index
+    ``n1``: closed onto b's body by a fixed cut joint, or carrying the body ``carry``; None
+    when both ends are on one rigid vehicle body (the spring never deforms)."""
+    node_bodies = build.node_bodies
+    if carry is not None and carry not in (node_bodies[a], node_bodies[b]):
+        raise ModelError(f"{build.source}: carried: the spring {a}-{b} joins bodies on "
+                         f"'{node_bodies[a]}' and '{node_bodies[b]}', not '{carry}'")
+    if carry is not None and node_bodies[a] == carry:
+        a, b = b, a     # hang from the other node's body: x = u_b - u_a, same energy
+    if node_bodies[a] == node_bodies[b]:
+        return None
+    element = bushing(f"{build.component.name}_{a}_{b}", node_bodies[a], build.xyz[n1], block,
+                      build.beta * np.asarray(block))
+    joint = Joint(f"{element.name}_close" if carry is None else f"{element.name}_carry",
+                  "fixed", end_body(element), node_bodies[b], _AXES[0], build.xyz[n1].copy(),
+                  cut=carry is None)
+    return element, joint
+
+
+def _link_joints(build):
+    """Spherical cut joints of the rigid links (translations) between two bodies."""
+    component, node_bodies = build.component, build.node_bodies
+    spherical = []
     for master, slave, dofs in component.structure.links:
-        if body_of[master] == body_of[slave]:
+        if build.body_of[master] == build.body_of[slave]:
             continue
         if len(dofs) != 3:
-            raise ModelError(f"{source}: a rigid link joining two bodies must link the "
+            raise ModelError(f"{build.source}: a rigid link joining two bodies must link the "
                              "translations only")
         a, b = _node_name(component, master), _node_name(component, slave)
         if node_bodies[a] != node_bodies[b]:
             spherical.append(Joint(f"{component.name}_link_{a}_{b}", "spherical",
-                                   node_bodies[a], node_bodies[b], _AXES[0], xyz[slave].copy(),
-                                   axis2=_AXES[1], cut=True))
-    clamps = {_node_name(component, c): node_bodies[_node_name(component, c)]
-              for c in component.clamp_nodes}
-    weld_joints = [Joint(f"{component.name}_weld_{c}", "fixed", welds[c], at, _AXES[0],
-                         xyz[component.node_names[c]].copy(), cut=True)
-                   for c, at in clamps.items() if c in welds and welds[c] != at]
-    parts = [chain_parts(e) for e in bushings + superelements]
-    return BodyElements(component.name, tuple(superelements), tuple(bushings),
-                        tuple(b for p in parts for b in p[0]),
-                        tuple(j for p in parts for j in p[1]) + tuple(closures)
-                        + tuple(spherical) + tuple(weld_joints),
-                        node_bodies, clamps, welds, tuple(left_open), beta)
+                                   node_bodies[a], node_bodies[b], _AXES[0],
+                                   build.xyz[slave].copy(), axis2=_AXES[1], cut=True))
+    return spherical
 
 
 def add_to(model, built):
@@ -300,22 +354,43 @@ def bench_model(component, bodies=None, zeta=None, carry=False):
     (None: reduced here with the defaults). Returns (VehicleModel, BodyElements).
     """
     bodies = reduce_bodies(component) if bodies is None else bodies
-    clamps = set(component.clamp_nodes)
-    xyz = component.node_xyz + component.origin
-    body_of = {n: b.name for b in bodies for n in b.nodes}
     rigid_bodies = [Body("ground", 0.0, np.zeros(3), np.zeros((3, 3)))]
-    rigid_joints, hangs, carried = [], {}, {}
+    hangs = _clamped_hangs(component, bodies)
+    carried = _carried_hangs(component, bodies, hangs, rigid_bodies) if carry else {}
+    rigid_joints = _free_hangs(component, bodies, hangs, rigid_bodies)
+    welds = {_node_name(component, c): "ground" for c in component.clamp_nodes}
+    built = body_elements(component, bodies, hangs, welds, carried=carried, zeta=zeta)
+    model = VehicleModel(f"{component.name}_bench", f"{component.source or component.name} "
+                         "(bench, flexible bodies)", 0.0, "ground", tuple(rigid_bodies),
+                         tuple(rigid_joints), (), base="fixed")
+    return add_to(model, built), built
+
+
+def _clamped_hangs(component, bodies):
+    """{body: ("ground", its first clamp node)} of the bodies that hold a clamp."""
+    clamps = set(component.clamp_nodes)
+    hangs = {}
     for body in bodies:
         held = [n for n in body.boundary if n in clamps]
         if held:
             hangs[body.name] = ("ground", _node_name(component, held[0]))
+    return hangs
+
+
+def _carried_hangs(component, bodies, hangs, rigid_bodies):
+    """Outwards from the bodies placed in ``hangs``: each body a spring joins to a placed one
+    hangs from its rigid body '<body>_rigid' at the spring's node, carried by that spring's
+    bushing. Adds to ``hangs`` and ``rigid_bodies``; returns ``carried`` of
+    :func:`body_elements`."""
+    body_of = {n: b.name for b in bodies for n in b.nodes}
     springs = [(n1, n2) for n1, n2, _ in component.structure.springs
                if body_of[n1] != body_of[n2]]
-    while carry:
+    carried = {}
+    while True:
         step = [(a, b) for n1, n2 in springs for a, b in ((n1, n2), (n2, n1))
                 if body_of[a] in hangs and body_of[b] not in hangs]
         if not step:
-            break
+            return carried
         a, b = step[0]
         body = next(x for x in bodies if x.name == body_of[b])
         name = f"{body.name}_rigid"
@@ -323,6 +398,14 @@ def bench_model(component, bodies=None, zeta=None, carry=False):
         carried[(_node_name(component, a), _node_name(component, b))] = name
         mass, com, inertia = body_mass_properties(component.structure, body.nodes)
         rigid_bodies.append(Body(name, mass, com + component.origin, inertia))
+
+
+def _free_hangs(component, bodies, hangs, rigid_bodies):
+    """Every body not yet in ``hangs`` on its rigid body '<body>_rigid', free on six joints
+    from the ground, hanging at its first boundary node. Adds to ``hangs`` and
+    ``rigid_bodies``; returns the joints."""
+    xyz = component.node_xyz + component.origin
+    rigid_joints = []
     for body in bodies:
         if body.name in hangs:
             continue
@@ -333,12 +416,7 @@ def bench_model(component, bodies=None, zeta=None, carry=False):
         rigid_bodies += chain_bodies + [Body(name, mass, com + component.origin, inertia)]
         rigid_joints += chain_joints
         hangs[body.name] = (name, _node_name(component, ref))
-    welds = {_node_name(component, c): "ground" for c in component.clamp_nodes}
-    built = body_elements(component, bodies, hangs, welds, carried=carried, zeta=zeta)
-    model = VehicleModel(f"{component.name}_bench", f"{component.source or component.name} "
-                         "(bench, flexible bodies)", 0.0, "ground", tuple(rigid_bodies),
-                         tuple(rigid_joints), (), base="fixed")
-    return add_to(model, built), built
+    return rigid_joints
 
 
 def point_jacobian(system, body, point):

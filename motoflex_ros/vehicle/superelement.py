@@ -44,6 +44,7 @@ from motoflex_ros.spatial import cross
 from motoflex_ros.structures.assembly import rigid_field
 from motoflex_ros.structures.bodies import split_bodies
 from motoflex_ros.structures.clamped import reduce_clamped
+from motoflex_ros.structures.craig_bampton import F_MAX_HZ, N_MODES
 from motoflex_ros.vehicle.model import Body, Joint
 
 __all__ = ["Superelement", "BoundSuperelement", "superelement_of", "rigid_field",
@@ -168,7 +169,8 @@ def follower_masks(component, parent, follows):
     return {body: owner == body for body in order}
 
 
-def superelement_of(component, parent, n_modes=20, f_max_hz=600.0, zeta=None, follows=None):
+def superelement_of(component, parent, n_modes=N_MODES, f_max_hz=F_MAX_HZ, zeta=None,
+                    follows=None):
     """Superelement of a structures Component welded to body ``parent`` at its clamps.
 
     The reduced matrices are those of ``component.clamped_reduced(n_modes, f_max_hz, zeta)``
