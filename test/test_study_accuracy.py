@@ -13,6 +13,7 @@ from motoflex_ros.config import config_path
 from motoflex_ros.errors import ModelError
 from motoflex_ros.structures.component_model import load_component
 from motoflex_ros.study.accuracy import rms_error_percent
+from motoflex_ros.study.identified_variants import carried_inertias
 from motoflex_ros.study.lumped_accuracy import (
     ACCURACY_VARIANTS,
     CASES,
@@ -21,7 +22,6 @@ from motoflex_ros.study.lumped_accuracy import (
     accuracy_study,
     mode_errors,
 )
-from motoflex_ros.study.identified_variants import carried_inertias
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.model import load_vehicle
 
@@ -265,8 +265,8 @@ def test_conditioning_is_what_the_study_prints(verb_run, identified_file):
     from motoflex_ros.study.hinge_fit_problem import PERTURBATIONS
     from motoflex_ros.study.hinge_fit_result import with_fitted
     from motoflex_ros.study.hinge_geometry import hinge_of, perturbed
-    from motoflex_ros.study.lumped_accuracy import _weave_wobble, flexible_reference
     from motoflex_ros.study.identified_variants import build_variant
+    from motoflex_ros.study.lumped_accuracy import _weave_wobble, flexible_reference
     from motoflex_ros.vehicle import lumped
 
     _, _, text, components_details = verb_run

@@ -26,6 +26,7 @@ import numpy as np
 
 from motoflex_ros.config import config_path
 from motoflex_ros.structures import load_component
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.tilt_stiffness import (
     FRONT,
     PARTS,
@@ -33,7 +34,6 @@ from motoflex_ros.study.tilt_stiffness import (
     bridge_rocking_stiffness,
     tilt_sweep,
 )
-from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.units import kmh_to_ms, ms_to_kmh
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle

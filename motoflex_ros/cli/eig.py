@@ -47,8 +47,8 @@ from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.config import resolve_config
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.limits import check_limit
-from motoflex_ros.study.pulse_check import pulse_check
 from motoflex_ros.study.identified_variants import build_variant
+from motoflex_ros.study.pulse_check import pulse_check
 from motoflex_ros.units import kmh_to_ms, ms_to_kmh
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle

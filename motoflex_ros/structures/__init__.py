@@ -10,7 +10,8 @@ reductions), ``component_model`` (the chain every component shares; beam compone
 ``component_schema`` (the YAML schemas), ``component_loader`` (a component by name or file),
 ``mesh_component``, ``mesh_file`` and ``mesh_examples`` (the engineer's volume meshes),
 ``superelement_file`` (pre-reduced matrices), ``reduction_cache`` (reductions on disk),
-``component_summary`` (headline numbers), ``paper_tables`` (Tables 1 and 2).
+``component_summary`` (headline numbers), ``paper_tables`` (Tables 1 and 2),
+``physical_ranges`` (the allowed ranges the schemas share).
 """
 from motoflex_ros.structures.clamped import ReducedComponent
 from motoflex_ros.structures.component_loader import load_component

@@ -84,7 +84,8 @@ class HingeFitProblem:
 
     Parameters
     ----------
-    vehicle, components, identified : as :func:`motoflex_ros.study.identified_variants.build_variant`
+    vehicle, components, identified
+        As :func:`motoflex_ros.study.identified_variants.build_variant`.
     names : sequence of str
         The components with a fitted hinge (the others rigid, as in the accuracy study).
     reference : mapping

@@ -32,13 +32,13 @@ from motoflex_ros.study.accuracy import QUANTITIES, weave_wobble_errors
 from motoflex_ros.study.fitted import fit_hinges
 from motoflex_ros.study.hinge_fit_result import with_fitted
 from motoflex_ros.study.hinge_geometry import hinge_of
+from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.load_variants import (
     VEHICLE_LOAD_SPEED,
     road_load_tests,
     vehicle_load_tests,
     with_load_tests,
 )
-from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.lumped import COMPONENTS
 from motoflex_ros.vehicle.modes import modal_sweep
