@@ -129,7 +129,7 @@ class InputGuard:
                 sub.topic_name)]
             now = time.monotonic()
             if all(self.endpoints.owner(g) is not None for g in gids) or \
-                    now - self._unknown_since.setdefault(sub, now) > NAME_WAIT_S:
+                    now - self._unknown_since.setdefault(sub, now) >= NAME_WAIT_S:
                 for gid in gids:
                     self.check(sub, gid, 0)
                 self._verified[sub] = count

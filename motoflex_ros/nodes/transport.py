@@ -32,20 +32,27 @@ from rclpy.impl.implementation_singleton import rclpy_implementation
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes import transport_ctypes, transport_rclpy
 
-__all__ = ["TRANSPORT_ENV", "TRANSPORTS", "selected", "spinner", "publisher_gid",
-           "publish_patiently"]
+__all__ = ["TRANSPORT_ENV", "TRANSPORTS", "selected", "selected_name", "spinner",
+           "publisher_gid", "publish_patiently"]
 
 TRANSPORT_ENV = "MOTOFLEX_TRANSPORT"
 TRANSPORTS = {"ctypes": transport_ctypes, "rclpy": transport_rclpy}
 
 
-def selected(env=None):
-    """The implementation module ``$MOTOFLEX_TRANSPORT`` names (default ctypes, whose
-    versions are checked here: a MotoflexError names what is installed and the switch)."""
+def selected_name(env=None):
+    """'ctypes' or 'rclpy': what ``$MOTOFLEX_TRANSPORT`` of ``env`` (default this process's)
+    selects (unset or empty: ctypes); MotoflexError for anything else."""
     name = (os.environ if env is None else env).get(TRANSPORT_ENV, "").strip() or "ctypes"
     if name not in TRANSPORTS:
         raise MotoflexError(f"{TRANSPORT_ENV}={name!r}: expected one of "
                             f"{', '.join(TRANSPORTS)}")
+    return name
+
+
+def selected(env=None):
+    """The implementation module :func:`selected_name` names; on the ctypes path its versions
+    are checked here (a MotoflexError names what is installed and the switch)."""
+    name = selected_name(env)
     if name == "ctypes":
         transport_ctypes.check_versions()
     return TRANSPORTS[name]
