@@ -1,8 +1,9 @@
 """ROS 2 nodes of the rig: thin rclpy adapters around the numerical core (no physics here).
 
 One module per executable (``ros2 run motoflex_ros <name>`` or the console script of the same
-name); message conversions live in :mod:`.conversions`, shared plumbing in :mod:`.runtime` and
-:mod:`.params`.
+name); message conversions live in :mod:`.conversions` (message objects), :mod:`.stamps`
+(time), :mod:`.cdr` (the bench's messages as bytes) and :mod:`.result_messages`; the ROS
+transport in :mod:`.transport`; shared plumbing in :mod:`.runtime` and :mod:`.params`.
 """
 
 # every executable node: module name (= executable, node name) -> its class

@@ -37,14 +37,7 @@ from std_msgs.msg import Float64MultiArray, String
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
-from motoflex_ros.nodes.conversions import (
-    IDENTIFIED_UNITS,
-    identification_statuses,
-    identified_series,
-    is_end_marker,
-    sample_from_phase,
-    time_msg,
-)
+from motoflex_ros.nodes.cdr import is_end_marker, sample_from_phase
 from motoflex_ros.nodes.interfaces import (
     ACK_OUT,
     LATCHED,
@@ -59,7 +52,13 @@ from motoflex_ros.nodes.load_actuator import may_end_test
 from motoflex_ros.nodes.measured_inputs import MEASURED_PARAMS, MeasuredInputs
 from motoflex_ros.nodes.message_checks import BenchInputs
 from motoflex_ros.nodes.params import Param
+from motoflex_ros.nodes.result_messages import (
+    IDENTIFIED_UNITS,
+    identification_statuses,
+    identified_series,
+)
 from motoflex_ros.nodes.runtime import ACK_TOPIC, RigNode, latched_qos, run_node
+from motoflex_ros.nodes.stamps import time_msg
 from motoflex_ros.results_file import write_results
 
 __all__ = ["IdentificationNode", "main", "RESULTS_TOPIC"]
