@@ -99,8 +99,8 @@ def test_both_paths_take_every_message_with_its_sequence_number(context, path):
 def test_plain_path_trust_check_reads_the_topics_publishers_in_the_graph(context, tmp_path,
                                                                           monkeypatch):
     """Without the sender of a message, a publisher the graph lists on the topic that none of
-    the run's files names is foreign (after the grace a new publisher gets); gaps counted
-    while the topic has one publisher."""
+    the run's files names is foreign, before the message is used (after the wait a new
+    publisher gets, none here); gaps counted while the topic has one publisher."""
     monkeypatch.setattr(endpoints, "NAME_WAIT_S", 0.0)
     listener = Node("listener", context=context)
     stray = Node("stray", context=context)

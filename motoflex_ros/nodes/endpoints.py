@@ -93,7 +93,6 @@ class InputGuard:
         self._trusted = set()
         self._only = {}   # subscription -> names of the run's nodes it accepts
         self._verified = {}   # plain path: subscription -> publisher count checked in the graph
-        self._unknown_since = {}   # plain path: subscription -> when an unknown GID was seen
 
     def only_from(self, sub, names):
         """Accept on ``sub`` only messages of the run's nodes called ``names``."""
@@ -118,22 +117,29 @@ class InputGuard:
         self._count_gap(sub, gid, seq)
 
     def check_topic(self, sub, seq):
-        """The check without the sender's identity (plain rclpy transport): whenever the count
-        of publishers matched with ``sub`` changes, every publisher the ROS graph lists on its
-        topic must be one of the run's (one still unknown ``NAME_WAIT_S`` [s] later raises
-        ForeignPublisher; meanwhile its messages are used); gaps are counted while the topic
-        has one publisher (sequence numbers are per publisher)."""
+        """The check without the sender's identity (plain rclpy transport), before the message
+        is used: whenever the count of publishers matched with ``sub`` changes, every publisher
+        the ROS graph lists on its topic must be one of the run's (the graph may list a new
+        publisher, or the run's file name it, a moment after it matched: waited for up to
+        ``NAME_WAIT_S`` [s], then ForeignPublisher); gaps are counted while the topic has one
+        publisher (sequence numbers are per publisher)."""
         count = sub.get_publisher_count()
         if self.endpoints is not None and self._verified.get(sub) != count:
-            gids = [endpoint_gid(i) for i in self.node.get_publishers_info_by_topic(
-                sub.topic_name)]
-            now = time.monotonic()
-            if all(self.endpoints.owner(g) is not None for g in gids) or \
-                    now - self._unknown_since.setdefault(sub, now) >= NAME_WAIT_S:
-                for gid in gids:
-                    self.check(sub, gid, 0)
-                self._verified[sub] = count
-                self._unknown_since.pop(sub, None)
+            deadline = time.monotonic() + NAME_WAIT_S
+            while True:
+                gids = [endpoint_gid(i) for i in self.node.get_publishers_info_by_topic(
+                    sub.topic_name)]
+                known = len(gids) >= count and all(self.endpoints.owner(g) is not None
+                                                   for g in gids)
+                if known or time.monotonic() >= deadline:
+                    break
+                time.sleep(0.05)
+            for gid in gids:
+                self.check(sub, gid, 0)   # raises for one that is still unknown
+            if len(gids) < count:
+                raise ForeignPublisher(_foreign(sub.topic_name, "a node the ROS graph does not "
+                                                "list", b"", "its message was refused"))
+            self._verified[sub] = count
         if count == 1:
             self._count_gap(sub, None, seq)
 
@@ -217,6 +223,7 @@ def _label(info):
 
 
 def _foreign(topic, label, gid, what):
-    return (f"foreign publisher on {topic}: {label} (GID {gid_text(gid)}) is not one of this "
+    gid = f" (GID {gid_text(gid)})" if gid else ""
+    return (f"foreign publisher on {topic}: {label}{gid} is not one of this "
             f"run's nodes; {what} and the run stopped (another run in this ROS domain, or a "
             f"stray publisher?)")

@@ -1,16 +1,18 @@
 """The plain rclpy transport: rclpy's subscriptions, publishers and executor (:mod:`.transport`).
 
 Chosen with ``MOTOFLEX_TRANSPORT=rclpy``. It needs nothing of rcl or rmw beyond rclpy's public
-API, so it runs on any ROS 2 release rclpy runs on; it is slower than the ctypes path
-(``benchmarks/bench_transport.py`` prints the ratio) and knows less about each message:
+API, so it runs on any ROS 2 release rclpy runs on; it is slower than the ctypes path (a
+campaign's node graph 1.19x the wall time and 1.30x the CPU, ``benchmarks/bench_transport.py``)
+and knows less about each message:
 
 - rclpy 7.1 (Jazzy) gives a subscription callback its MessageInfo (timestamps and sequence
   numbers) but not the publisher's GID. Each message therefore reaches
   :meth:`.endpoints.InputGuard.check` without its sender: the trust check looks at the topic's
-  publishers in the ROS graph instead (:meth:`.endpoints.InputGuard.check_topic`), so a foreign
-  publisher is refused once the graph lists it, not at its first message, and gaps are counted
-  only while a topic has one publisher (the acknowledgements of /rig/ack, with one writer per
-  node, go unchecked).
+  publishers in the ROS graph instead (:meth:`.endpoints.InputGuard.check_topic`): when the
+  count of matched publishers changes, every one the graph lists must be the run's, before the
+  message is used, so a foreign publisher stops the run at the first message on its topic
+  after it matched, whoever sent that message; gaps are counted only while a topic has one
+  publisher (the acknowledgements of /rig/ack, with one writer per node, go unchecked).
 - A publisher's own GID comes from the ROS graph (the node's own endpoint on the topic), which
   lists it as soon as it is created.
 """
@@ -39,11 +41,11 @@ def publisher_gid(publisher, node, known=()):
 class Spinner:
     """rclpy's SingleThreadedExecutor on one node waits and runs the first callback; then
     every subscription is drained with ``Subscription.handle.take_message``, the call the
-    executor itself makes (one executor turn per message, a wait set built each time, cost
-    125 us of CPU per message against 8 us so, measured with ``benchmarks/bench_transport.py``'s
-    message loop). Every subscription's callback also gets the MessageInfo, so that
-    ``check(sub, None, publication sequence number)`` sees each message before the node's
-    callback does."""
+    executor itself makes. (One executor turn per message builds a wait set each time: 169 us
+    of CPU per message against 7.8 us so, ``benchmarks/bench_transport.py``; the recorder fell
+    behind and lost the tail of a campaign's bag.) Every subscription's callback also gets the
+    MessageInfo, so that ``check(sub, None, publication sequence number)`` sees each message
+    before the node's callback does."""
 
     def __init__(self, node, check):
         self.node = node
