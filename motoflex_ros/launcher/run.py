@@ -21,7 +21,7 @@ from motoflex_ros.launcher.dds import configure_dds, peers_range
 from motoflex_ros.launcher.domain import DomainLock, participants_in_domain, requested_domain
 from motoflex_ros.launcher.graph import NodeDied, NodeGraph, describe_exit
 from motoflex_ros.launcher.interrupts import deferred_interrupts, raise_if_interrupted
-from motoflex_ros.nodes.transport import selected_name
+from motoflex_ros.nodes.transport import selected, selected_name
 
 __all__ = ["RunFailed", "RunInterrupted", "RunResult", "run_graph", "work_folder",
            "ros_log_home", "peer_room_problem", "check_peer_room"]
@@ -108,6 +108,7 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
     with deferred_interrupts():   # raised by the monitor's loop, not mid-deserialisation
         try:
             dds = configure_dds(os.environ)   # this process's monitor node; the nodes inherit it
+            selected()   # the transport's switch and the ctypes path's ROS releases, checked
             with DomainLock(domain_id=requested_domain(os.environ), namespace=namespace) as lock:
                 where = f", namespace {namespace}" if (namespace or "/").strip("/") else ""
                 print(f"motoflex: ROS_DOMAIN_ID {lock.domain_id} ({lock.origin}){where}; {dds}; "
