@@ -45,7 +45,7 @@ def main():
 
     import rclpy
 
-    from motoflex_ros.nodes.conversions import points_cdr, wrench_cdr
+    from motoflex_ros.nodes.cdr import points_cdr, wrench_cdr
     from motoflex_ros.nodes.measured_inputs import MEASURED_PARAMS, MeasuredInputs
 
     folder = Path(tempfile.mkdtemp(prefix="bench_live_memory_"))

@@ -72,8 +72,8 @@ def interruptible():
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
-def _campaign(tmp_path, *extra):
-    env = dict(os.environ, TMPDIR=str(tmp_path), OPENBLAS_NUM_THREADS="1")
+def _campaign(tmp_path, *extra, **env_extra):
+    env = dict(os.environ, TMPDIR=str(tmp_path), OPENBLAS_NUM_THREADS="1", **env_extra)
     return subprocess.Popen([sys.executable, "-m", "motoflex_ros.cli.main", "campaign",
                              "--component", COMPONENT, *extra], env=env, text=True,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE,

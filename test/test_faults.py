@@ -286,8 +286,10 @@ def _forged(topic):
     from diagnostic_msgs.msg import DiagnosticArray
     from rosgraph_msgs.msg import Clock
 
-    from motoflex_ros.nodes.conversions import identification_statuses, points_msg, time_msg
+    from motoflex_ros.nodes.conversions import points_msg
+    from motoflex_ros.nodes.result_messages import identification_statuses
     from motoflex_ros.nodes.runtime import latched_qos, reliable_qos
+    from motoflex_ros.nodes.stamps import time_msg
     if topic == "/clock":
         return Clock(clock=time_msg(10**12)), reliable_qos()
     if topic == "/identification/results":

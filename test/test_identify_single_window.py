@@ -84,7 +84,10 @@ def test_single_window_json_null_roundtrip(single, tmp_path):
 
 
 def test_single_window_diagnostic_statuses_null_roundtrip(single):
-    from motoflex_ros.nodes.conversions import identification_statuses, results_from_statuses
+    from motoflex_ros.nodes.result_messages import (
+        identification_statuses,
+        results_from_statuses,
+    )
     statuses = identification_statuses("tube", single.to_dict())
     back = results_from_statuses(statuses)
     back["tube"].setdefault("sweep", [])       # no sweep test ran: no sweep status

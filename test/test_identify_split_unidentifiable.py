@@ -59,7 +59,7 @@ def test_identify_cli_warns_about_unidentifiable_split(capsys):
 def test_identification_status_warns(tube):
     from diagnostic_msgs.msg import DiagnosticStatus
 
-    from motoflex_ros.nodes.conversions import identification_statuses
+    from motoflex_ros.nodes.result_messages import identification_statuses
     split = identification_statuses("tube", tube.to_dict())[0]
     assert split.name == "tube/split" and split.level == DiagnosticStatus.WARN
     assert "k_t = -" in split.message

@@ -9,7 +9,7 @@ from types import SimpleNamespace
 import pytest
 
 pytest.importorskip("rclpy")
-from motoflex_ros.nodes.conversions import points_cdr, wrench_cdr  # noqa: E402
+from motoflex_ros.nodes.cdr import points_cdr, wrench_cdr  # noqa: E402
 from motoflex_ros.nodes.endpoints import ForeignPublisher, InputGuard, RunEndpoints  # noqa: E402
 from motoflex_ros.nodes.message_checks import BadMessage, BenchInputs  # noqa: E402
 
@@ -49,12 +49,8 @@ def test_moment_loads_pass_as_torque_and_are_bounded():
     from rclpy.serialization import serialize_message
 
     from motoflex_ros.bench.actuator import LoadSample
-    from motoflex_ros.nodes.conversions import (
-        phase_cdr,
-        sample_from_phase,
-        wrench_msg,
-        wrench_vector_from_cdr,
-    )
+    from motoflex_ros.nodes.cdr import phase_cdr, sample_from_phase, wrench_vector_from_cdr
+    from motoflex_ros.nodes.conversions import wrench_msg
     unit = (0.0, 0.0, 0.0, 0.6, 0.0, -0.8)
     sample = LoadSample(3, 0.5, 1e-3, 40.0, "moment_axial", "static", "hold", 0.0, False, unit)
     data = wrench_cdr(5, "c", sample.wrench_vector)

@@ -11,7 +11,8 @@ import rclpy  # noqa: E402
 from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
 from scipy.spatial.transform import Rotation  # noqa: E402
 
-from motoflex_ros.nodes import conversions  # noqa: E402
+from motoflex_ros.nodes import cdr, conversions, result_messages, stamps  # noqa: E402
+from motoflex_ros.spatial import quaternion_xyzw  # noqa: E402
 
 CONFIG = Path(conversions.__file__).resolve().parents[1] / "config" / "nodes"
 from motoflex_ros.nodes import NODE_CLASSES as NODES  # noqa: E402
@@ -61,7 +62,7 @@ def test_nodes_config_defaults_roundtrip(name):
                                     (0.0, 3.1, 0.2), (0.1, 0.0, 3.1), (1.0, 1.0, 1.0)])
 def test_nodes_quaternion_scipy(rotvec):
     rot = Rotation.from_rotvec(rotvec)
-    q = np.array(conversions.quaternion_xyzw(rot.as_matrix()))
+    q = np.array(quaternion_xyzw(rot.as_matrix()))
     ref = rot.as_quat()
     assert min(np.abs(q - ref).max(), np.abs(q + ref).max()) < 1e-15
     assert math.isclose(np.linalg.norm(q), 1.0, rel_tol=1e-15)
@@ -75,9 +76,9 @@ def test_nodes_phase_and_points_roundtrip():
     sample = LoadSample(7, 0.1 + 1 / 603.1802138593138, 1 / 603.1802138593138, -12.5e-3,
                         "sweep_03", "sweep", "steady", 104.0, False)
     msg = deserialize_message(serialize_message(conversions.phase_msg(sample)), String)
-    assert conversions.sample_from_phase(msg, sample.force) == (sample, None)
+    assert cdr.sample_from_phase(msg, sample.force) == (sample, None)
     end = conversions.phase_msg(end_ns=123456789)
-    assert conversions.sample_from_phase(end, 0.0) == (None, 123456789)
+    assert cdr.sample_from_phase(end, 0.0) == (None, 123456789)
     points = np.random.default_rng(1).normal(size=(8, 3)) * 1e-3
     wire = deserialize_message(serialize_message(conversions.points_msg(5, "f", points)),
                                PoseArray)
@@ -95,11 +96,11 @@ def test_nodes_identification_statuses_roundtrip():
     runs = identify_components(components, seed=0, carried=carried)
     result = to_jsonable(runs["swingarm"][1].identification.to_dict())
     assert result["principal"]["identified"]
-    array = DiagnosticArray(status=conversions.identification_statuses("swingarm", result))
+    array = DiagnosticArray(status=result_messages.identification_statuses("swingarm", result))
     wire = deserialize_message(serialize_message(array), DiagnosticArray)
     names = [s.name for s in wire.status]
     assert names[0] == "swingarm/split" and "swingarm/static" in names
-    assert conversions.results_from_statuses(wire.status) == {"swingarm": result}
+    assert result_messages.results_from_statuses(wire.status) == {"swingarm": result}
 
 
 @pytest.mark.parametrize("n, frame_id", [(0, ""), (1, "a"), (4, "swingarm_clamp"),
@@ -110,16 +111,16 @@ def test_nodes_points_cdr_roundtrip(n, frame_id):
     from geometry_msgs.msg import PoseArray
     points = np.random.default_rng(n).normal(size=(n, 3))
     ns = 1_234_567_890_123
-    ours = conversions.points_cdr(ns, frame_id, points)
+    ours = cdr.points_cdr(ns, frame_id, points)
     ref = serialize_message(conversions.points_msg(ns, frame_id, points))
     assert len(ours) == len(ref)
     decoded = deserialize_message(ours, PoseArray)
     assert decoded.header.frame_id == frame_id
-    assert conversions.time_ns(decoded.header.stamp) == ns
+    assert stamps.time_ns(decoded.header.stamp) == ns
     assert np.array_equal(conversions.points_from_msg(decoded), points)
     assert all((p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w)
                == (0.0, 0.0, 0.0, 1.0) for p in decoded.poses)
-    stamp, back = conversions.points_from_cdr(ref)
+    stamp, back = cdr.points_from_cdr(ref)
     assert stamp == ns and np.array_equal(back, points)
 
 
@@ -133,27 +134,27 @@ def test_nodes_bench_cdr_roundtrip(frame_id):
 
     from motoflex_ros.bench.actuator import LoadSample
     ns, force = 1_234_567_890_123, -12.5e-3 / 3.0
-    ours = conversions.wrench_cdr(ns, frame_id, force)
+    ours = cdr.wrench_cdr(ns, frame_id, force)
     ref = serialize_message(conversions.wrench_msg(ns, frame_id, force))
     assert len(ours) == len(ref)
     assert deserialize_message(ours, WrenchStamped) == deserialize_message(ref, WrenchStamped)
-    assert conversions.wrench_from_cdr(ref) == conversions.wrench_from_cdr(ours) == (ns, force)
+    assert cdr.wrench_from_cdr(ref) == cdr.wrench_from_cdr(ours) == (ns, force)
 
     rotation = Rotation.from_rotvec([1e-3, -2e-3, 0.5e-3]).as_matrix()
     position = np.array([0.1, -0.2, 0.3]) / 7.0
-    ours = conversions.pose_cdr(ns, frame_id, position, rotation)
+    ours = cdr.pose_cdr(ns, frame_id, position, rotation)
     ref = serialize_message(conversions.pose_msg(ns, frame_id, position, rotation))
     assert len(ours) == len(ref)
     assert deserialize_message(ours, PoseStamped) == deserialize_message(ref, PoseStamped)
 
     sample = LoadSample(7, 0.1 + 1 / 603.1802138593138, 1 / 603.1802138593138, force,
                         f"sweep_03{frame_id}", "sweep", "steady", 104.0, False)
-    for ours, ref in [(conversions.phase_cdr(sample), conversions.phase_msg(sample)),
-                      (conversions.phase_cdr(end_ns=ns), conversions.phase_msg(end_ns=ns))]:
+    for ours, ref in [(cdr.phase_cdr(sample), conversions.phase_msg(sample)),
+                      (cdr.phase_cdr(end_ns=ns), conversions.phase_msg(end_ns=ns))]:
         assert deserialize_message(ours, String) == ref
-        assert conversions.phase_text(serialize_message(ref)) == ref.data
-        assert conversions.sample_from_phase(ours, force) == \
-            conversions.sample_from_phase(ref, force)
-        assert conversions.is_end_marker(ours) == conversions.is_end_marker(ref)
-    assert conversions.sample_from_phase(conversions.phase_cdr(sample), force) == (sample, None)
-    assert conversions.is_end_marker(conversions.phase_cdr(end_ns=ns))
+        assert cdr.phase_text(serialize_message(ref)) == ref.data
+        assert cdr.sample_from_phase(ours, force) == \
+            cdr.sample_from_phase(ref, force)
+        assert cdr.is_end_marker(ours) == cdr.is_end_marker(ref)
+    assert cdr.sample_from_phase(cdr.phase_cdr(sample), force) == (sample, None)
+    assert cdr.is_end_marker(cdr.phase_cdr(end_ns=ns))

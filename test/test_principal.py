@@ -264,7 +264,10 @@ def test_principal_results_round_trip_through_diagnostic_key_values():
     from diagnostic_msgs.msg import DiagnosticStatus
 
     from motoflex_ros.cli.output import to_jsonable
-    from motoflex_ros.nodes.conversions import identification_statuses, results_from_statuses
+    from motoflex_ros.nodes.result_messages import (
+        identification_statuses,
+        results_from_statuses,
+    )
     vs = [hinge_vector(l, beta) for l, beta, _ in TWO_HINGES]
     c = sum(hinge_compliance(k, l, beta, Q0) for l, beta, k in TWO_HINGES)
     g = metric_making_orthogonal([vs[0], vs[1], np.cross(vs[0], vs[1])], [3.0, 1.0, 2.0])

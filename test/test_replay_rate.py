@@ -25,7 +25,7 @@ from std_msgs.msg import String  # noqa: E402
 from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
 from motoflex_ros.launcher.graph import ros_env  # noqa: E402
 from motoflex_ros.launcher.status import write_status  # noqa: E402
-from motoflex_ros.nodes.conversions import time_msg  # noqa: E402
+from motoflex_ros.nodes.stamps import time_msg  # noqa: E402
 from motoflex_ros.record.mcap_bag import BagWriter, read_messages  # noqa: E402
 
 pytestmark = pytest.mark.ros

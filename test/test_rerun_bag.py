@@ -124,7 +124,8 @@ def _vehicle_outputs(writer, static, eigenvalues):
     axes of the lumped motorcycle and (``eigenvalues``) its eigenvalues over speed."""
     from diagnostic_msgs.msg import DiagnosticArray
 
-    from motoflex_ros.nodes.conversions import axis_marker, mode_statuses
+    from motoflex_ros.nodes.conversions import axis_marker
+    from motoflex_ros.nodes.result_messages import mode_statuses
     revolute = [j for j in lumped_motorcycle(static).joints if j.kind == "revolute"]
     for k, joint in enumerate(revolute):
         _write_ros(writer, "/vehicle/joint_axes", "visualization_msgs/msg/Marker", 10**9,

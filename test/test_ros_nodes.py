@@ -231,13 +231,14 @@ def test_nodes_sequence_gap_reported_per_publisher(tmp_path, env):
     topic (none lost): counted per publisher, two gaps; per subscription B's numbers would have
     hidden A's gap and faked others."""
     import rclpy
+    from rclpy.node import Node
     from std_msgs.msg import String
 
     from motoflex_ros.nodes.endpoints import InputGuard
     context = rclpy.Context()
     rclpy.init(args=[], context=context, domain_id=int(env["ROS_DOMAIN_ID"]))
     try:
-        node = rclpy.node.Node("gap_probe", context=context)
+        node = Node("gap_probe", context=context)
         sub = node.create_subscription(String, "/probe", lambda m: None, 10)
         guard = InputGuard(node, None)
         a, b = b"A" * 16, b"B" * 16

@@ -16,7 +16,7 @@ pytest.importorskip("rclpy")
 from scipy.spatial.transform import Rotation  # noqa: E402
 
 from motoflex_ros.config import config_path  # noqa: E402
-from motoflex_ros.nodes.conversions import time_ns  # noqa: E402
+from motoflex_ros.nodes.stamps import time_ns  # noqa: E402
 from motoflex_ros.nodes.vehicle_simulator import (  # noqa: E402
     WORLD_FRAME,
     VehicleSimulatorNode,

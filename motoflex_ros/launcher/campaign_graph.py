@@ -89,7 +89,7 @@ def campaign_topics(components):
 
 def identified_topics(components):
     """The numeric identification topics /identification/<c>/{k, l, beta}."""
-    from motoflex_ros.nodes.conversions import IDENTIFIED_UNITS
+    from motoflex_ros.nodes.result_messages import IDENTIFIED_UNITS
     return [f"/identification/{c}/{q}" for c in components for q in IDENTIFIED_UNITS]
 
 

@@ -9,9 +9,9 @@ from std_msgs.msg import String
 from motoflex_ros.launcher.graph import NodeDied
 from motoflex_ros.launcher.interrupts import raise_if_interrupted
 from motoflex_ros.launcher.run_failures import pacer_failed, peer_room_problem
-from motoflex_ros.nodes.conversions import time_ns
 from motoflex_ros.nodes.endpoints import GraphWatch, InputGuard
 from motoflex_ros.nodes.runtime import PROGRESS_TOPIC, READY_TOPIC, FastSpinner, latched_qos
+from motoflex_ros.nodes.stamps import time_ns
 from motoflex_ros.progress import progress_bar
 
 __all__ = ["Monitor"]

@@ -26,6 +26,7 @@ from motoflex_ros.launcher.run_failures import (
     peer_room_problem,
 )
 from motoflex_ros.nodes.dds import configure_dds
+from motoflex_ros.nodes.transport import selected, selected_name
 
 __all__ = ["RunFailed", "RunInterrupted", "RunResult", "run_graph", "work_folder",
            "ros_log_home", "peer_room_problem", "check_peer_room"]
@@ -108,10 +109,11 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
     with deferred_interrupts():   # raised by the monitor's loop, not mid-deserialisation
         try:
             dds = configure_dds(os.environ)   # this process's monitor node; the nodes inherit it
+            selected()   # the transport's switch and the ctypes path's ROS releases, checked
             with DomainLock(domain_id=requested_domain(os.environ), namespace=namespace) as lock:
                 where = f", namespace {namespace}" if (namespace or "/").strip("/") else ""
-                print(f"motoflex: ROS_DOMAIN_ID {lock.domain_id} ({lock.origin}){where}; {dds}",
-                      file=sys.stderr, flush=True)
+                print(f"motoflex: ROS_DOMAIN_ID {lock.domain_id} ({lock.origin}){where}; {dds}; "
+                      f"ROS transport {selected_name()}", file=sys.stderr, flush=True)
                 check_peer_room(lock.domain_id, len(specs) + 1)   # the nodes + the monitor
                 graph = NodeGraph(specs, lock.domain_id, work_dir, namespace, pins)
                 try:

@@ -16,12 +16,7 @@ from std_msgs.msg import String
 
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
-from motoflex_ros.nodes.conversions import (
-    is_end_marker,
-    points_cdr,
-    pose_cdr,
-    sample_from_phase,
-)
+from motoflex_ros.nodes.cdr import is_end_marker, points_cdr, pose_cdr, sample_from_phase
 from motoflex_ros.nodes.interfaces import PHASE_IN, RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.message_checks import BenchInputs
 from motoflex_ros.nodes.runtime import RigNode, run_node

@@ -3,7 +3,7 @@
 The launcher gives every process of a run the folder ``$MOTOFLEX_ENDPOINTS`` (inside the run's
 private work folder). Each node writes there, atomically, ``<node>.json``: {GID hex: topic} of
 every publisher it creates, before it publishes anything on it. A node's :class:`InputGuard`
-takes each message with its publisher's GID (:mod:`.rcl_take`) and accepts it only if one of
+takes each message with its publisher's GID (:mod:`.transport`) and accepts it only if one of
 the run's files lists that GID (an unknown GID makes it read the folder again once: a
 publisher is always written down before its first message). Any other publisher on a topic
 the node reads, a stray node or a second run in the same ROS domain, fails the run with
@@ -28,12 +28,12 @@ from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.files import atomic_write_text
-from motoflex_ros.nodes.rcl_take import GID_SIZE, gid_text, publisher_gid
 
 __all__ = ["ENDPOINTS_ENV", "ForeignPublisher", "RunEndpoints", "InputGuard", "GraphWatch",
-           "RIG_TOPIC_PREFIXES"]
+           "RIG_TOPIC_PREFIXES", "GID_SIZE", "gid_text", "endpoint_gid"]
 
 ENDPOINTS_ENV = "MOTOFLEX_ENDPOINTS"
+GID_SIZE = 16   # bytes of a publisher's GID (rmw 7.3: RMW_GID_STORAGE_SIZE)
 NAME_WAIT_S = 1.0   # longest wait for the graph to name a foreign publisher's node [s]
 RIG_TOPIC_PREFIXES = ("/bench/", "/clock", "/identification/", "/vehicle/", "/rig/")
 
@@ -57,9 +57,9 @@ class RunEndpoints:
         folder = os.environ.get(ENDPOINTS_ENV)
         return cls(folder, node_name) if folder else None
 
-    def register(self, publisher):
-        """Write down one of this node's publishers (call before it publishes)."""
-        gid = publisher_gid(publisher)
+    def register(self, publisher, gid):
+        """Write down one of this node's publishers, whose GID is ``gid`` (bytes; call before
+        it publishes)."""
         self.own[gid.hex()] = publisher.topic_name
         self.owners[gid] = self.node_name
         atomic_write_text(self.folder / f"{self.node_name}.json", json.dumps(self.own))
@@ -92,6 +92,7 @@ class InputGuard:
         self._last_seq = {}
         self._trusted = set()
         self._only = {}   # subscription -> names of the run's nodes it accepts
+        self._verified = {}   # plain path: subscription -> publisher count checked in the graph
 
     def only_from(self, sub, names):
         """Accept on ``sub`` only messages of the run's nodes called ``names``."""
@@ -99,7 +100,10 @@ class InputGuard:
 
     def check(self, sub, gid, seq):
         """Raise ForeignPublisher for a message of ``sub`` from an unknown publisher; count a
-        gap in the sequence numbers of its publisher."""
+        gap in the sequence numbers of its publisher. ``gid`` None (the plain rclpy transport,
+        which does not tell who sent a message): :meth:`check_topic`."""
+        if gid is None:
+            return self.check_topic(sub, seq)
         if self.endpoints is not None and gid not in self._trusted:
             if self.endpoints.owner(gid) is None:
                 raise ForeignPublisher(self.describe_foreign(sub.topic_name, gid))
@@ -110,6 +114,36 @@ class InputGuard:
             raise ForeignPublisher(f"{sub.topic_name}: node '{self.endpoints.owner(gid)}' of "
                                    f"this run published here; only {', '.join(sorted(only))} "
                                    f"may; its message was refused and the run stopped")
+        self._count_gap(sub, gid, seq)
+
+    def check_topic(self, sub, seq):
+        """The check without the sender's identity (plain rclpy transport), before the message
+        is used: whenever the count of publishers matched with ``sub`` changes, every publisher
+        the ROS graph lists on its topic must be one of the run's (the graph may list a new
+        publisher, or the run's file name it, a moment after it matched: waited for up to
+        ``NAME_WAIT_S`` [s], then ForeignPublisher); gaps are counted while the topic has one
+        publisher (sequence numbers are per publisher)."""
+        count = sub.get_publisher_count()
+        if self.endpoints is not None and self._verified.get(sub) != count:
+            deadline = time.monotonic() + NAME_WAIT_S
+            while True:
+                gids = [endpoint_gid(i) for i in self.node.get_publishers_info_by_topic(
+                    sub.topic_name)]
+                known = len(gids) >= count and all(self.endpoints.owner(g) is not None
+                                                   for g in gids)
+                if known or time.monotonic() >= deadline:
+                    break
+                time.sleep(0.05)
+            for gid in gids:
+                self.check(sub, gid, 0)   # raises for one that is still unknown
+            if len(gids) < count:
+                raise ForeignPublisher(_foreign(sub.topic_name, "a node the ROS graph does not "
+                                                "list", b"", "its message was refused"))
+            self._verified[sub] = count
+        if count == 1:
+            self._count_gap(sub, None, seq)
+
+    def _count_gap(self, sub, gid, seq):
         if not seq or not self.count_gaps(sub):
             return
         key = (sub, gid)
@@ -117,9 +151,9 @@ class InputGuard:
         if seq > last + 1:
             lost = seq - last - 1
             self.gaps += lost
+            sender = gid_text(gid) if gid else "the only one"
             self.node.get_logger().error(f"gap on {sub.topic_name}: {lost} message(s) lost "
-                                         f"(publisher {gid_text(gid)}, sequence {last} -> "
-                                         f"{seq})")
+                                         f"(publisher {sender}, sequence {last} -> {seq})")
         self._last_seq[key] = max(seq, last)
 
     def describe_foreign(self, topic, gid):
@@ -130,7 +164,7 @@ class InputGuard:
         deadline = time.monotonic() + NAME_WAIT_S
         while True:
             for info in self.node.get_publishers_info_by_topic(topic):
-                if _gid(info) == gid and not info.node_name.startswith("_NODE_"):
+                if endpoint_gid(info) == gid and not info.node_name.startswith("_NODE_"):
                     return _label(info)
             if time.monotonic() > deadline:
                 return "a node the ROS graph does not name"
@@ -163,7 +197,7 @@ class GraphWatch:
         for topic, _ in self.node.get_topic_names_and_types():
             if topic.startswith(prefixes):
                 for info in self.node.get_publishers_info_by_topic(topic):
-                    gid, first = _gid(info), self._unknown.get(_gid(info))
+                    gid, first = endpoint_gid(info), self._unknown.get(endpoint_gid(info))
                     if first is None or "_NODE_" in first[2]:   # the name may come later
                         self._unknown[gid] = (first[0] if first else now, topic, _label(info))
         for gid, (seen, topic, label) in list(self._unknown.items()):
@@ -173,7 +207,13 @@ class GraphWatch:
                 raise ForeignPublisher(_foreign(topic, label, gid, "seen in the ROS graph"))
 
 
-def _gid(info):
+def gid_text(gid):
+    """A GID as the dotted hex ROS tools print."""
+    return ".".join(f"{b:02x}" for b in gid)
+
+
+def endpoint_gid(info):
+    """The GID (bytes) of a publisher as the ROS graph lists it (rclpy TopicEndpointInfo)."""
     return bytes(info.endpoint_gid[:GID_SIZE])
 
 
@@ -183,6 +223,7 @@ def _label(info):
 
 
 def _foreign(topic, label, gid, what):
-    return (f"foreign publisher on {topic}: {label} (GID {gid_text(gid)}) is not one of this "
+    gid = f" (GID {gid_text(gid)})" if gid else ""
+    return (f"foreign publisher on {topic}: {label}{gid} is not one of this "
             f"run's nodes; {what} and the run stopped (another run in this ROS domain, or a "
             f"stray publisher?)")

@@ -29,7 +29,7 @@ from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from std_msgs.msg import Empty
 
-from motoflex_ros.nodes.conversions import points_from_cdr, wrench_vector_from_cdr
+from motoflex_ros.nodes.cdr import points_from_cdr, wrench_vector_from_cdr
 from motoflex_ros.nodes.kept_frames import KeptRows
 from motoflex_ros.nodes.params import Param, ParameterError
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.bench_graph import topic
-from motoflex_ros.nodes.conversions import points_from_cdr, wrench_vector_from_cdr
+from motoflex_ros.nodes.cdr import points_from_cdr, wrench_vector_from_cdr
 
 __all__ = ["BadMessage", "BenchInputs"]
 

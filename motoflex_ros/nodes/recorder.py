@@ -23,7 +23,8 @@ import sys
 import time
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.nodes.conversions import clock_ns_from_cdr, qos_dict
+from motoflex_ros.nodes.cdr import clock_ns_from_cdr
+from motoflex_ros.nodes.conversions import qos_dict
 from motoflex_ros.nodes.interfaces import RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.params import Param, ParameterError
 from motoflex_ros.nodes.runtime import RigNode, message_class, reliable_qos, run_node

@@ -11,10 +11,9 @@
   also have held for READY_HOLD_S: the two directions of discovery are milliseconds apart, and the
   recorder's subscriptions, created when it discovers a topic, were matched by their writers a few
   tens of samples late (the run's zero-loss check failed) without it.
-- :class:`FastSpinner` waits on all subscriptions of a node and then drains each ready one
-  until empty (taking each message with its publisher's GID, :mod:`.rcl_take`): one wait per
-  burst instead of one executor turn per message (measured about 13x faster than
-  ``SingleThreadedExecutor.spin_once``, which lost the race at about 1,500 messages/s here).
+- The messages are taken, published and spun through :mod:`.transport` (the ctypes path by
+  default, plain rclpy with ``MOTOFLEX_TRANSPORT=rclpy``); :data:`FastSpinner` and
+  :func:`publish_patiently` are its names of old.
 - :func:`run_node` is every executable's ``main``: DDS on loopback unless MOTOFLEX_DDS=network
   (:mod:`motoflex_ros.nodes.dds`), ``rclpy.init`` reads ``--ros-args``
   (``-p``, ``--params-file``), SIGINT and SIGTERM end the loop cleanly (the node's
@@ -36,7 +35,6 @@ from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from rclpy.serialization import deserialize_message
 from rclpy.signals import SignalHandlerOptions
 from std_msgs.msg import String
 
@@ -45,7 +43,7 @@ from motoflex_ros.nodes.dds import configure_dds
 from motoflex_ros.nodes.endpoints import InputGuard, RunEndpoints
 from motoflex_ros.nodes.interfaces import topics_help
 from motoflex_ros.nodes.params import declare_parameters, parameters_help
-from motoflex_ros.nodes.rcl_take import Taker
+from motoflex_ros.nodes.transport import publish_patiently, publisher_gid, selected, spinner
 
 __all__ = ["RigNode", "FastSpinner", "run_node", "print_help", "publish_patiently",
            "message_class",
@@ -132,7 +130,8 @@ class RigNode(Node):
         publisher = super().create_publisher(*args, **kwargs)
         guard = getattr(self, "guard", None)   # rclpy's own publishers come before it
         if guard is not None and guard.endpoints is not None:
-            guard.endpoints.register(publisher)
+            guard.endpoints.register(publisher, publisher_gid(publisher, self,
+                                                              guard.endpoints.owners))
         return publisher
 
     @property
@@ -191,62 +190,7 @@ class RigNode(Node):
             self.exit_code = self.exit_code or GAP_EXIT_CODE
 
 
-def publish_patiently(publisher, msg, timeout_s=30.0):
-    """Publish, retrying while a reliable keep-all reader is full ("cannot publish data":
-    Fast DDS gives up after its blocking time); raises after ``timeout_s`` [s] of refusals.
-    """
-    deadline = None
-    while True:
-        try:
-            publisher.publish(msg)
-            return
-        except rclpy_implementation.RCLError as exc:
-            if "cannot publish data" not in str(exc):
-                raise
-            deadline = deadline or time.monotonic() + timeout_s
-            if time.monotonic() > deadline:
-                raise MotoflexError(f"{publisher.topic_name}: readers refuse data for "
-                                    f"{timeout_s:g} s ({exc})") from exc
-            time.sleep(0.001)
-
-
-class FastSpinner:
-    """Wait on every subscription of a node, then drain each ready one completely (a wait
-    with n subscriptions costs about 5 n us; trying the others too would cost as much again
-    for the recorder's 22)."""
-
-    def __init__(self, node, check=None):
-        self._rclpy = rclpy_implementation
-        self.node = node
-        self.check = check or node.guard.check   # (sub, publisher GID, sequence number)
-        self._takers = {}
-
-    def spin_once(self, timeout_s):
-        """Handle every message available within ``timeout_s`` [s]; returns the count."""
-        subs = list(self.node.subscriptions)
-        context = self.node.context
-        if timeout_s != 0:
-            with context.handle:
-                wait_set = self._rclpy.WaitSet(len(subs), 0, 0, 0, 0, 0, context.handle)
-                for sub in subs:
-                    wait_set.add_subscription(sub.handle)
-                wait_set.wait(int(timeout_s * 1e9))
-                ready = set(wait_set.get_ready_entities("subscription"))
-            subs = [sub for sub in subs if sub.handle.pointer in ready]
-        return sum(self._drain(sub) for sub in subs)
-
-    def _drain(self, sub):
-        count = 0
-        taker = self._takers.get(sub) or self._takers.setdefault(sub, Taker(sub))
-        msg_type, raw, callback, check = sub.msg_type, sub.raw, sub.callback, self.check
-        while True:
-            taken = taker.take()
-            if taken is None:
-                return count
-            data, gid, seq = taken
-            check(sub, gid, seq)   # before the message is used: a foreign one stops the run
-            callback(data if raw else deserialize_message(data, msg_type))
-            count += 1
+FastSpinner = spinner   # the name nodes/launcher used before nodes/transport.py
 
 
 def _profiler():
@@ -367,6 +311,7 @@ def run_node(node_class, args=None):
         unknown = _unknown_arguments(args)
         if unknown is not None:
             raise unknown
+        selected()   # the transport's switch and, on the ctypes path, its versions
         _init_ros(args)
     except MotoflexError as exc:
         return _refuse(node_class, exc)
@@ -377,12 +322,12 @@ def run_node(node_class, args=None):
     except MotoflexError as exc:
         rclpy.try_shutdown()
         return _refuse(node_class, exc)
-    spinner = FastSpinner(node)
+    node_spinner = spinner(node)
     launcher = os.environ.get("MOTOFLEX_PARENT_PID")
     try:
         while not stop and not node.finished:
             node.announce_ready()   # every node, pacers too (the launcher waits for all)
-            node.step(spinner)
+            node.step(node_spinner)
             if launcher and os.getppid() != int(launcher):
                 stop.append("launcher gone")   # the motoflex process that started us died
     except MotoflexError as exc:

@@ -154,7 +154,7 @@ def bag_eigenvalues(msg):
     """Speeds [m/s] and {mode: eigenvalue per speed, complex [1/s]} of /vehicle/eigenvalues.
 
     ``msg`` is the diagnostic_msgs/DiagnosticArray of the vehicle_simulator node
-    (:func:`motoflex_ros.nodes.conversions.mode_statuses`): one status 'vehicle/<mode>' with
+    (:func:`motoflex_ros.nodes.result_messages.mode_statuses`): one status 'vehicle/<mode>' with
     JSON lists speeds_kmh, real [1/s] and frequency_hz [Hz] (null where the mode is not
     found: NaN here); lambda = real + 2 pi i frequency_hz. ValueError when the modes' speeds
     differ.
