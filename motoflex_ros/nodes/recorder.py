@@ -101,8 +101,12 @@ class Recorder(RigNode):
                 self.writer.add_topic(topic, type_name, offered)
                 callback = (self._clock_callback if topic == "/clock"
                             else self._callback(topic, type_name))
-            self.subscribe(message_class(type_name), name, callback, raw=True,
-                           qos=self._qos_for(offered))
+            sub = self.subscribe(message_class(type_name), name, callback, raw=True,
+                                 qos=self._qos_for(offered))
+            if self._ready_sent or not self.wanted:
+                # found while the graph runs (or any topic of a discovering recorder): its
+                # publishers may have sent before this subscription; not a loss
+                self.guard.joined_late.add(sub)
             self.recorded[topic] = type_name
         self._next_discovery = time.monotonic() + self.params["discovery_period"]
 
