@@ -25,7 +25,8 @@ setup(
     name=PACKAGE,
     version="0.1.0",
     packages=find_packages(exclude=["test", "test.*"]),
-    package_data={PACKAGE: ["config/*/*.yaml", "config/*/*.xml", "config/components/mesh/*.yaml",
+    package_data={PACKAGE: ["config/*/*.yaml", "config/*/*.xml", "config/foxglove/*.json",
+                            "config/components/mesh/*.yaml",
                             "config/components/mesh/*.msh"]},
     # the data is listed above; include_package_data would also take every file of the
     # manifest and warn "Package would be ignored" for each config/ folder (importable as a
@@ -40,6 +41,7 @@ setup(
         ("share/" + PACKAGE + "/config/protocols", glob("config/protocols/*.yaml")),
         ("share/" + PACKAGE + "/config/nodes", glob("config/nodes/*.yaml")),
         ("share/" + PACKAGE + "/config/dds", glob("config/dds/*.xml")),
+        ("share/" + PACKAGE + "/config/foxglove", glob("config/foxglove/*.json")),
         ("share/" + PACKAGE + "/launch", glob("launch/*.launch.py")),
     ],
     python_requires=">=3.10",

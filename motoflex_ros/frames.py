@@ -4,9 +4,10 @@ One root per rig, ``world``: the lab. Under it
 
 - the bench of each component (``<c>_clamp``: the paper's component frame, clamp at O, placed
   at the component's O in the vehicle frame plus ``BENCH_SPACING_M`` sideways per bench, as
-  the rerun recording places them), its nominal loaded end ``<c>_loaded_end`` at q0 and the
-  sensor's markers ``<c>_marker_<i>`` at their offsets from q0 (static: the measured motion of
-  the loaded end is on /bench/<c>/pose, in the clamp frame);
+  the rerun recording places them; static), its loaded end ``<c>_loaded_end`` (moving: at q0
+  plus the simulated displacement and rotation of the loaded end, :func:`loaded_end_transform`)
+  and the sensor's markers ``<c>_marker_<i>`` at their offsets from q0 (static children of the
+  loaded end: they move with it, as the sensor's rigid marker set does);
 - the road test (``odom``, ``ROAD_OFFSET_M`` beside the benches, x along the initial heading),
   the motorcycle's main frame body ``vehicle`` (the reference-configuration axes carried by the
   frame body: the joint axes are drawn there) and one frame per body with mass,
@@ -21,7 +22,8 @@ import numpy as np
 
 __all__ = ["ROOT_FRAME", "ODOM_FRAME", "VEHICLE_FRAME", "BENCH_SPACING_M", "ROAD_OFFSET_M",
            "FrameTransform", "clamp_frame", "loaded_end_frame", "marker_frame", "body_frame",
-           "bench_transforms", "road_transform", "vehicle_transforms", "body_com_poses"]
+           "bench_transforms", "loaded_end_transform", "road_transform", "vehicle_transforms",
+           "body_com_poses"]
 
 ROOT_FRAME = "world"
 ODOM_FRAME = "odom"
@@ -65,16 +67,23 @@ def body_frame(body):
 def bench_transforms(benches):
     """Static FrameTransforms of the benches: ``benches`` is a list of (component name, O in
     the vehicle frame [m] (3,), q0 [m] (3,), marker offsets from q0 [m] (n, 3)); the k-th
-    in sorted name order stands k BENCH_SPACING_M to the left (as in the rerun recording)."""
+    in sorted name order stands k BENCH_SPACING_M to the left (as in the rerun recording).
+    The loaded end between clamp and markers moves: :func:`loaded_end_transform`."""
     out = []
-    for k, (name, origin, q0, markers) in enumerate(sorted(benches, key=lambda b: b[0])):
+    for k, (name, origin, _, markers) in enumerate(sorted(benches, key=lambda b: b[0])):
         place = np.asarray(origin, float) + np.array([0.0, BENCH_SPACING_M * k, 0.0])
         out.append(FrameTransform(ROOT_FRAME, clamp_frame(name), _IDENTITY, place))
-        out.append(FrameTransform(clamp_frame(name), loaded_end_frame(name), _IDENTITY,
-                                  np.asarray(q0, float)))
         out += [FrameTransform(loaded_end_frame(name), marker_frame(name, i), _IDENTITY,
                                np.asarray(m, float)) for i, m in enumerate(markers)]
     return out
+
+
+def loaded_end_transform(component, q0, rotation, displacement):
+    """Clamp -> loaded end of ``component``: at q0 [m] (3,) moved by ``displacement`` [m] (3,)
+    and turned by ``rotation`` (3, 3), the loaded end's simulated motion in the clamp frame."""
+    return FrameTransform(clamp_frame(component), loaded_end_frame(component),
+                          np.asarray(rotation, float),
+                          np.asarray(q0, float) + np.asarray(displacement, float))
 
 
 def road_transform():

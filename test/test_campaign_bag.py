@@ -150,7 +150,8 @@ def test_bodies_are_distinct_named_and_follow_the_road_test(messages):
 RELIABLE, TRANSIENT_LOCAL, VOLATILE, AUTOMATIC = 1, 1, 2, 1
 INFINITE = {"sec": 9223372036, "nsec": 854775807}
 COMPONENTS = ("frame", "front_assembly", "swingarm")
-LATCHED = {"/vehicle/eigenvalues", "/vehicle/joint_axes", "/identification/results",
+LATCHED = {"/vehicle/eigenvalues", "/vehicle/joint_axes", "/vehicle/geometry",
+           "/identification/results",
            "/tf_static", *(f"/bench/{c}/structure" for c in COMPONENTS),
            *(f"/identification/{c}/{q}" for c in COMPONENTS for q in ("k", "l", "beta")),
            "/vehicle/modes/speed_kmh", *(f"/vehicle/modes/{m}/{q}" for m in

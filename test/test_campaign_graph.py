@@ -149,7 +149,9 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
         "/clock": "rosgraph_msgs/msg/Clock",
         "/identification/results": "diagnostic_msgs/msg/DiagnosticArray",
         "/tf_static": "tf2_msgs/msg/TFMessage",
+        "/tf": "tf2_msgs/msg/TFMessage",     # the loaded end moving
         f"/bench/{COMPONENT}/structure": "visualization_msgs/msg/MarkerArray",
+        f"/bench/{COMPONENT}/phase_values": "sensor_msgs/msg/JointState",
         **{f"/identification/{COMPONENT}/{q}": "std_msgs/msg/Float64MultiArray"
            for q in ("k", "l", "beta")},
         **{f"/bench/{COMPONENT}/{leaf}": f"geometry_msgs/msg/{t}" if t != "String"

@@ -139,3 +139,20 @@ def test_guard_only_from_names_the_node_it_refuses(tmp_path):
     with pytest.raises(ForeignPublisher, match="node 'bag_replay' of this run published here; "
                                                "only identification may"):
         guard.check(sub, other, 1)
+
+
+def test_guard_counts_a_late_subscription_from_its_first_message():
+    """A recorder that discovers a topic of a running graph (an empty ``topics`` list) gets a
+    publisher's messages from sequence number N > 1: not N - 1 lost (which made a hand-started
+    recorder exit 3), but a gap after that is; on a subscription made before its publisher
+    began, a first number above 1 is a loss."""
+    node = _Node()
+    guard = InputGuard(node, None)
+    late, early = _Sub("/bench/frame/load"), _Sub("/clock")
+    guard.joined_late.add(late)
+    a, b = bytes(16), bytes(range(16))
+    for sub, gid, seq in ((late, a, 5), (late, a, 6), (late, b, 40), (late, a, 9)):
+        guard.check(sub, gid, seq)
+    assert guard.gaps == 2 and len(node.errors) == 1 and "6 -> 9" in node.errors[0]
+    guard.check(early, a, 3)
+    assert guard.gaps == 4

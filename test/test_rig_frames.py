@@ -1,7 +1,8 @@
 """The rig's frames and their way into the bag, without DDS (issue 16, points 2 and 5).
 
-- The bench's static transforms put each marker where the displacement sensor has it at rest
-  (:func:`motoflex_ros.bench.sensor.marker_positions`), in the clamp frame.
+- The bench's transforms put each marker where the displacement sensor has it
+  (:func:`motoflex_ros.bench.sensor.marker_positions`), in the clamp frame: at rest, and with
+  the loaded end moved and turned (the moving frame on /tf carries the static markers).
 - TransformStamped CDR as rclpy serializes it goes through the recorder's TfBatcher into
   tf2_msgs/msg/TFMessage that rosbags decodes to the same transforms, one message per run of
   equal stamps.
@@ -16,6 +17,7 @@ from motoflex_ros.frames import (
     FrameTransform,
     bench_transforms,
     clamp_frame,
+    loaded_end_transform,
     marker_frame,
 )
 from motoflex_ros.launcher.domain import DomainBusy, DomainLock
@@ -24,9 +26,12 @@ from motoflex_ros.launcher.domain import DomainBusy, DomainLock
 def test_bench_markers_sit_where_the_sensor_has_them_at_rest():
     q0 = np.array([-0.6, 0.0, -0.045])
     offsets = np.array([[0, 0, 0], [0, 0.12, 0], [0, -0.12, 0], [-0.03, -0.1, 0.12]])
+    from scipy.spatial.transform import Rotation
     transforms = bench_transforms([("swingarm", (0.6, 0.0, 0.36), q0, offsets),
                                    ("frame", (0.0, 0.0, 0.5), q0, offsets)])
     parent = {t.child: t for t in transforms}
+    assert "swingarm_loaded_end" not in parent      # it moves: on /tf, not /tf_static
+    parent["swingarm_loaded_end"] = loaded_end_transform("swingarm", q0, np.eye(3), np.zeros(3))
 
     def in_clamp(frame, component):
         point = np.zeros(3)
@@ -36,6 +41,14 @@ def test_bench_markers_sit_where_the_sensor_has_them_at_rest():
         return point
 
     expected = marker_positions(q0, np.eye(3), q0, offsets)
+    for i in range(len(offsets)):
+        np.testing.assert_allclose(in_clamp(marker_frame("swingarm", i), "swingarm"),
+                                   expected[i], atol=1e-15)
+    # the loaded end moved and turned: the markers go with it as the sensor sees them
+    rotation = Rotation.from_rotvec([0.01, -0.02, 0.03]).as_matrix()
+    moved = np.array([1e-3, -2e-3, 5e-4])
+    parent["swingarm_loaded_end"] = loaded_end_transform("swingarm", q0, rotation, moved)
+    expected = marker_positions(q0 + moved, rotation, q0, offsets)
     for i in range(len(offsets)):
         np.testing.assert_allclose(in_clamp(marker_frame("swingarm", i), "swingarm"),
                                    expected[i], atol=1e-15)

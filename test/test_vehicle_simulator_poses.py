@@ -16,12 +16,10 @@ pytest.importorskip("rclpy")
 from scipy.spatial.transform import Rotation  # noqa: E402
 
 from motoflex_ros.config import config_path  # noqa: E402
+from motoflex_ros.frames import ODOM_FRAME as WORLD_FRAME  # noqa: E402
+from motoflex_ros.nodes.road_publisher import RoadPublisher  # noqa: E402
 from motoflex_ros.nodes.stamps import time_ns  # noqa: E402
-from motoflex_ros.nodes.vehicle_simulator import (  # noqa: E402
-    WORLD_FRAME,
-    VehicleSimulatorNode,
-    body_rows,
-)
+from motoflex_ros.vehicle.animation import body_rows  # noqa: E402
 from motoflex_ros.vehicle.linearize import linearize  # noqa: E402
 from motoflex_ros.vehicle.model import load_vehicle  # noqa: E402
 from motoflex_ros.vehicle.poses import world_poses  # noqa: E402
@@ -47,21 +45,26 @@ class KeepingTf:
 def test_node_bodies_are_core_world_poses_roundtrip():
     model = load_vehicle(config_path("vehicles", "touring"))
     lin, speed = linearize(model), 100.0 / 3.6       # the node's default road test
-    node = VehicleSimulatorNode.__new__(VehicleSimulatorNode)
-    node.joints_pub, node.bodies_pub, node.tf = KeepingPublisher(), KeepingPublisher(), KeepingTf()
-    node._road_test(lin, model, speed, 50.0)
+    node = RoadPublisher.__new__(RoadPublisher)
+    node.joints, node.bodies, node.tf = KeepingPublisher(), KeepingPublisher(), KeepingTf()
+    node.clock, node.geometry, node.axes = (KeepingPublisher() for _ in range(3))
+    start_ns = 30_000_000_000                          # the road test after the bench
+    node.publish(lin, model, speed, 50.0, start_ns)
     pulse = steer_pulse_response(lin, speed, outputs=tuple(lin.state_names))
     poses = world_poses(lin, pulse.time, pulse.outputs, speed)   # every sample
     bodies = [b for b in model.bodies if b.mass > 0]
     frames = [lin.system.tree.body_frames[b.name] for b in bodies]
-    messages = node.bodies_pub.messages
+    messages = node.bodies.messages
     rows = list(range(0, len(pulse.time), 4))                    # 50 Hz of 200 Hz
-    assert len(node.joints_pub.messages) == len(pulse.time)
+    assert len(node.joints.messages) == len(pulse.time)
+    # /clock at every sample of the response, on the run's clock from start_ns
+    clock = [time_ns(m.clock) for m in node.clock.messages]
+    assert clock == [start_ns + round(t * 1e9) for t in pulse.time]
     assert len(messages) == len(rows) and list(body_rows(pulse.time, 50.0)) == rows
     assert {m.header.frame_id for m in messages} == {WORLD_FRAME} == {"odom"}
     for i in (0, len(messages) // 3, len(messages) - 1):
         k = rows[i]
-        assert time_ns(messages[i].header.stamp) == round(pulse.time[k] * 1e9)
+        assert time_ns(messages[i].header.stamp) == start_ns + round(pulse.time[k] * 1e9)
         ns, transforms = node.tf.sent[i]
         assert ns == time_ns(messages[i].header.stamp)
         tf = {t.child: (t.parent, t.rotation, t.translation) for t in transforms}

@@ -22,7 +22,8 @@ __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign
            "VEHICLE_VARIANT"]
 
 RESULT_FILE = "identification.json"
-BENCH_LEAVES = ("load", "phase", "markers/true", "markers/measured", "pose", "structure")
+BENCH_LEAVES = ("load", "phase", "phase_values", "markers/true", "markers/measured", "pose",
+                "structure")
 
 
 @dataclass(frozen=True)
@@ -42,7 +43,7 @@ class CampaignOutcome:
 
 MODES = ("weave", "wobble", "capsize")
 VEHICLE_TOPICS = ("/vehicle/eigenvalues", "/vehicle/joint_states", "/vehicle/bodies",
-                  "/vehicle/joint_axes", f"/{TF_LIVE}", "/vehicle/modes/speed_kmh",
+                  "/vehicle/joint_axes", "/vehicle/geometry", "/vehicle/modes/speed_kmh",
                   *(f"/vehicle/modes/{m}/{q}" for m in MODES for q in ("frequency_hz",
                                                                       "real_part")))
 
@@ -82,7 +83,7 @@ def bench_components(components):
 def campaign_topics(components):
     """Every topic the campaign records."""
     vehicle = list(VEHICLE_TOPICS) if with_vehicle(components) else []
-    return ["/clock", "/identification/results", f"/{TF_STATIC_LIVE}"] + [
+    return ["/clock", "/identification/results", f"/{TF_STATIC_LIVE}", f"/{TF_LIVE}"] + [
         f"/bench/{c}/{leaf}" for c in components for leaf in BENCH_LEAVES] + \
         identified_topics(components) + vehicle
 
@@ -117,17 +118,17 @@ def campaign_specs(components, bag, noise=None, seed=0, protocol=None, result_fi
 
 
 def planned_run(components, noise=None, protocol=None):
-    """(longest planned simulated time over the components [s] (tests may settle sooner),
-    number of bench tests over all components)."""
+    """(planned simulated time of the bench [s]: the components one after the other, each
+    PAUSE_S after the previous one (tests may settle sooner), number of bench tests over all
+    components)."""
     from motoflex_ros.bench.actuator import PAUSE_S
     from motoflex_ros.bench.offline_campaign import setup_campaign
-    longest, tests = 0.0, 0
+    total, tests = 0.0, 0
     for name in components:
         plan = setup_campaign(name, protocol, noise).plan
-        total = sum(t.max_samples / t.rate_hz for t in plan.tests)
-        longest = max(longest, total + PAUSE_S * (len(plan.tests) - 1))
+        total += sum(t.max_samples / t.rate_hz for t in plan.tests) + PAUSE_S * len(plan.tests)
         tests += len(plan.tests)
-    return longest, tests
+    return total - PAUSE_S, tests
 
 
 def campaign_inputs(components, noise=None, protocol=None):

@@ -7,11 +7,12 @@ transport in :mod:`.transport`; shared plumbing in :mod:`.runtime` and :mod:`.pa
 
 Executables: ``sim_clock``, ``recorder``, ``bag_replay``, ``load_actuator``,
 ``component_simulator``, ``displacement_sensor``, ``identification`` (with
-``virtual_identification`` for the virtual bench, ``measured_identification``, ``measured_inputs`` and ``kept_frames`` for a real
-rig's topics), ``vehicle_simulator``. Shared: ``bench_graph``
-(what the bench nodes share), ``interfaces`` (topics per node), ``endpoints`` (who may publish
-to a node), ``message_checks``, ``pacing`` (lock-step simulated time), ``dds`` (where DDS
-traffic may go), ``transport_ctypes`` and ``transport_rclpy`` (the two paths behind ``transport``),
+``virtual_identification`` for the virtual bench; ``measured_identification``,
+``measured_inputs`` and ``kept_frames`` for a real rig's topics), ``vehicle_simulator`` (with
+``mode_publisher``, ``road_publisher`` and ``rig_markers``). Shared: ``bench_graph`` (what the
+bench nodes share), ``interfaces`` (topics per node), ``endpoints`` (who may publish to a
+node), ``message_checks``, ``pacing`` (lock-step simulated time), ``dds`` (where DDS traffic
+may go), ``transport_ctypes`` and ``transport_rclpy`` (the two paths behind ``transport``),
 ``ros_args``, ``tf``.
 """
 

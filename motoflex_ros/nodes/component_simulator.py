@@ -2,10 +2,12 @@
 
 For each sample (phase + load of /bench/<c>/), steps the core's ComponentSimulator and
 publishes the true marker positions on /bench/<c>/markers/true (geometry_msgs/PoseArray,
-clamp frame), stamped with the load's time. At start it publishes, latched, the bench's frames
-(world -> <c>_clamp -> <c>_loaded_end -> <c>_marker_<i> on /rig/tf_static, recorded as
-/tf_static: :mod:`motoflex_ros.frames`) and the beam model, members and nodes, as
-/bench/<c>/structure (visualization_msgs/MarkerArray, clamp frame). A load that is not
+clamp frame), stamped with the load's time, and the loaded end's motion as the moving frame
+<c>_clamp -> <c>_loaded_end on /rig/tf (recorded as /tf; every ``tf_period`` of simulated time).
+At start it publishes, latched, the bench's fixed frames (world -> <c>_clamp and
+<c>_loaded_end -> <c>_marker_<i> on /rig/tf_static, recorded as /tf_static:
+:mod:`motoflex_ros.frames`) and the beam model, members and nodes, as /bench/<c>/structure
+(visualization_msgs/MarkerArray, clamp frame). A load that is not
 finite, beyond the protocol's range or stamped before the previous one stops the node
 (:mod:`.message_checks`).
 """
@@ -16,13 +18,14 @@ from geometry_msgs.msg import PoseArray, WrenchStamped
 from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
-from motoflex_ros.frames import bench_transforms
+from motoflex_ros.frames import bench_transforms, loaded_end_transform
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.conversions import (
     is_end_marker,
     points_cdr,
     sample_from_phase,
+    seconds_to_ns,
     structure_markers,
 )
 from motoflex_ros.nodes.interfaces import (
@@ -31,10 +34,12 @@ from motoflex_ros.nodes.interfaces import (
     PHASE_IN,
     RELIABLE,
     RIG_TOPICS,
+    TF_DYNAMIC,
     TF_STATIC,
     Topic,
 )
 from motoflex_ros.nodes.message_checks import BenchInputs
+from motoflex_ros.nodes.params import Param
 from motoflex_ros.nodes.runtime import RigNode, latched_qos, run_node
 from motoflex_ros.nodes.tf import TfPublisher
 
@@ -45,14 +50,18 @@ class ComponentSimulatorNode(RigNode):
     """Load in, true markers out."""
 
     NAME = "component_simulator"
-    PARAMS = BENCH_PARAMS
+    PARAMS = BENCH_PARAMS + (
+        Param("tf_period", 0.01, 0.0, 1.0,
+              description="the loaded end on /rig/tf every so much simulated time [s] "
+                          "(0: every sample)"),
+    )
     TOPICS = RIG_TOPICS + (
         PHASE_IN, LOAD_IN,
         Topic("pub", "bench/{c}/markers/true", "geometry_msgs/msg/PoseArray", RELIABLE,
               "true marker positions [m], frame <c>_clamp, stamped with the load's time"),
         Topic("pub", "bench/{c}/structure", "visualization_msgs/msg/MarkerArray", LATCHED_LAST,
               "the beam model (members and nodes), frame <c>_clamp"),
-        TF_STATIC,
+        TF_DYNAMIC, TF_STATIC,
     )
 
     def __init__(self):
@@ -61,6 +70,7 @@ class ComponentSimulatorNode(RigNode):
         self.setups = campaign_setups(self.params)
         self.sims = {c: ComponentSimulator(s.reduced) for c, s in self.setups.items()}
         self.pubs = {}
+        self.tf = TfPublisher(self, dynamic=True)
         for c in self.setups:
             self.pubs[c] = self.advertise(PoseArray, bench_topic(c, "markers/true"))
             join = SampleJoin("phase", ("load",), self._handler(c),
@@ -72,7 +82,7 @@ class ComponentSimulatorNode(RigNode):
 
     def _publish_bench(self):
         """The benches' static frames and each component's beam model (latched)."""
-        TfPublisher(self).static(bench_transforms([
+        self.tf.static(bench_transforms([
             (c, s.component.origin, s.reduced.q0, s.protocol.sensor.markers)
             for c, s in self.setups.items()]))
         self.structure_pubs = {}
@@ -89,6 +99,8 @@ class ComponentSimulatorNode(RigNode):
         q0 = np.asarray(setup.reduced.q0, float)
         offsets = np.asarray(setup.protocol.sensor.markers, float)
         checked = BenchInputs.of_plan(component, setup.plan, self.get_namespace())
+        period = seconds_to_ns(self.params["tf_period"])
+        next_tf = [0]
 
         def handle(phase, inputs):
             if "load" not in inputs:
@@ -96,9 +108,12 @@ class ComponentSimulatorNode(RigNode):
             ns, load = checked.wrench(inputs["load"])
             sample, _ = sample_from_phase(phase, load)
             motion = self.sims[component].step(sample)
-            markers = marker_positions(q0 + motion[:3], rotation_from_vector(motion[3:]), q0,
-                                       offsets)
+            rotation = rotation_from_vector(motion[3:])
+            markers = marker_positions(q0 + motion[:3], rotation, q0, offsets)
             self.pubs[component].publish(points_cdr(ns, frame_id(component), markers))
+            if ns >= next_tf[0]:
+                self.tf.send(ns, [loaded_end_transform(component, q0, rotation, motion[:3])])
+                next_tf[0] = ns + period
         return handle
 
 

@@ -93,6 +93,7 @@ class InputGuard:
         self._trusted = set()
         self._only = {}   # subscription -> names of the run's nodes it accepts
         self._verified = {}   # plain path: subscription -> publisher count checked in the graph
+        self.joined_late = set()   # subscriptions made after their publishers began
 
     def only_from(self, sub, names):
         """Accept on ``sub`` only messages of the run's nodes called ``names``."""
@@ -147,7 +148,12 @@ class InputGuard:
         if not seq or not self.count_gaps(sub):
             return
         key = (sub, gid)
-        last = self._last_seq.get(key, 0)
+        last = self._last_seq.get(key)
+        if last is None:
+            # a subscription made after its publisher began (a recorder discovering topics
+            # of a running graph): what that publisher sent before is not lost, it was never
+            # ours to receive; count from its first message here
+            last = seq - 1 if sub in self.joined_late else 0
         if seq > last + 1:
             lost = seq - last - 1
             self.gaps += lost

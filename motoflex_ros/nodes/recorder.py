@@ -2,8 +2,11 @@
 
 Subscribes raw (serialized CDR bytes, no deserialization) to the topics listed in ``topics``,
 once they have a publisher, or, if that list is empty, to every topic it discovers except the
-rig's own /rig/* and the ROS bookkeeping topics. Each message is stamped with its receive time
-[ns] (as rosbag2 does). The MCAP file is finished and metadata.yaml written on SIGINT, SIGTERM
+rig's own /rig/* and the ROS bookkeeping topics. Each message is logged on the run's simulated
+clock (``log_time`` 'stamp', the default): at its header stamp, or, without one, at the latest
+stamp recorded or the recorder's /clock time (:mod:`motoflex_ros.record.log_time`); with
+'receive' at its wall-clock receive time [ns], as ``ros2 bag record`` does. The MCAP file is
+finished and metadata.yaml written on SIGINT, SIGTERM
 and at the end of a run; a killed recorder leaves an MCAP that ``motoflex bag repair``
 salvages. With ``ack`` the recorder acknowledges recorded /clock times on /rig/ack, so a
 pacing source never outruns it; without, it lets messages gather for ``batch_period`` between
@@ -28,12 +31,15 @@ from motoflex_ros.nodes.conversions import qos_dict
 from motoflex_ros.nodes.interfaces import RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.params import Param, ParameterError
 from motoflex_ros.nodes.runtime import RigNode, message_class, reliable_qos, run_node
+from motoflex_ros.record.log_time import SimLogTime
 from motoflex_ros.record.mcap_bag import BagWriter
+from motoflex_ros.record.tf_bag import LIVE_TYPE as TF_LIVE_TYPE
 from motoflex_ros.record.tf_bag import TF_TOPICS, TF_TYPE, TfBatcher
 
 __all__ = ["Recorder", "main", "IGNORED_PREFIXES"]
 
 IGNORED_PREFIXES = ("/rig/", "/rosout", "/parameter_events")
+CLOCK_TYPE = "rosgraph_msgs/msg/Clock"
 
 
 class Recorder(RigNode):
@@ -48,6 +54,8 @@ class Recorder(RigNode):
               "run started (not waited for)"),
         Param("chunk_size", 262144, 4096, 64 * 2**20, description="MCAP chunk size [bytes]"),
         Param("compression", "zstd", choices=("zstd", "lz4", "none")),
+        Param("log_time", "stamp", choices=("stamp", "receive"),
+              description="log time: the simulated stamp, or the wall-clock receive time"),
         Param("ack", False, description="acknowledge recorded /clock times on /rig/ack"),
         Param("discovery_period", 0.2, 0.01, 60.0, description="topic discovery period [s]"),
         Param("batch_period", 0.005, 0.0, 1.0,
@@ -73,6 +81,7 @@ class Recorder(RigNode):
         self.late = {_rooted(t) for t in p["late_topics"]}
         self.recorded = {}
         self.batchers = []
+        self.sim_log = SimLogTime()
         self._next_discovery = 0.0
         self.discover()
 
@@ -91,9 +100,14 @@ class Recorder(RigNode):
                 callback = self._tf_callback(topic)
             else:
                 self.writer.add_topic(topic, type_name, offered)
-                callback = self._clock_callback if topic == "/clock" else self._callback(topic)
-            self.subscribe(message_class(type_name), name, callback, raw=True,
-                           qos=self._qos_for(offered))
+                callback = (self._clock_callback if topic == "/clock"
+                            else self._callback(topic, type_name))
+            sub = self.subscribe(message_class(type_name), name, callback, raw=True,
+                                 qos=self._qos_for(offered))
+            if self._ready_sent or not self.wanted:
+                # found while the graph runs (or any topic of a discovering recorder): its
+                # publishers may have sent before this subscription; not a loss
+                self.guard.joined_late.add(sub)
             self.recorded[topic] = type_name
         self._next_discovery = time.monotonic() + self.params["discovery_period"]
 
@@ -111,11 +125,17 @@ class Recorder(RigNode):
             return topic in self.wanted
         return topic in TF_TOPICS or not topic.startswith(IGNORED_PREFIXES)
 
-    def _callback(self, topic):
+    def _log_ns(self, type_name, data):
+        """The log time [ns] of a received message (``log_time``)."""
+        if self.params["log_time"] == "receive":
+            return time.time_ns()
+        return self.sim_log.of(type_name, data, self.get_clock().now().nanoseconds)
+
+    def _callback(self, topic, type_name):
         write = self.writer.write
 
         def record(data):
-            write(topic, time.time_ns(), data)
+            write(topic, self._log_ns(type_name, data), data)
         return record
 
     def _tf_callback(self, topic):
@@ -124,7 +144,7 @@ class Recorder(RigNode):
         self.batchers.append(batcher)
 
         def record(data):
-            batcher.add(time.time_ns(), data)
+            batcher.add(self._log_ns(TF_LIVE_TYPE, data), data)
         return record
 
     def _offered(self, topic):
@@ -146,7 +166,7 @@ class Recorder(RigNode):
         return qos
 
     def _clock_callback(self, data):
-        self.writer.write("/clock", time.time_ns(), data)
+        self.writer.write("/clock", self._log_ns(CLOCK_TYPE, data), data)
         if self.params["ack"]:
             self.processed(clock_ns_from_cdr(data))
 

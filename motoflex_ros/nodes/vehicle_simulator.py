@@ -6,20 +6,12 @@ run's identification node only, or from ``result_file`` if given), builds the lu
 
 - /vehicle/eigenvalues (diagnostic_msgs/DiagnosticArray): weave, wobble and capsize eigenvalues
   from ``speed_min_kmh`` to ``speed_max_kmh`` (step ``speed_step_kmh``), tracked by mode shape;
-  the same numbers as arrays a plot panel draws against speed (std_msgs/Float64MultiArray,
-  latched): /vehicle/modes/speed_kmh and /vehicle/modes/<mode>/{frequency_hz, real_part};
-- the steer-torque pulse road test at ``road_speed_kmh``: /vehicle/joint_states
-  (sensor_msgs/JointState: joint angles, rates, applied torques; every sample of the response,
-  200 Hz) and /vehicle/bodies (geometry_msgs/PoseArray: the pose of each body with mass at its
-  centre of mass, in the world frame ``odom``: x forward along the initial heading, the bike's
-  path and heading integrated by the core over every sample,
-  :func:`motoflex_ros.vehicle.poses.world_poses`) at ``bodies_rate_hz`` (default 50 Hz: enough
-  to watch the weave, and the poses, a nonlinear position solve per body pose sample, cost a
-  quarter), stamped with the road-test time; the same poses as named frames on /rig/tf
-  (odom -> vehicle -> vehicle/<body>, in the PoseArray's order; recorded as /tf,
-  :mod:`motoflex_ros.frames`) and world -> odom on /rig/tf_static;
-- /vehicle/joint_axes (visualization_msgs/Marker, one per revolute joint, latched, in the
-  frame ``vehicle``: the main frame body's reference axes).
+  the same numbers as arrays a plot panel draws against speed (:mod:`.mode_publisher`);
+- the steer-torque pulse road test at ``road_speed_kmh`` on the run's clock, after the bench
+  (:mod:`.road_publisher`: /clock, /vehicle/joint_states, /vehicle/bodies at ``bodies_rate_hz``,
+  the bodies' frames on /rig/tf and their geometry on /vehicle/geometry), world -> odom on
+  /rig/tf_static, and the revolute joints' axes (/vehicle/joint_axes, frame ``vehicle``: the
+  main frame body's reference axes).
 
 Then it exits 0 (the campaign waits for it).
 """
@@ -28,46 +20,19 @@ from pathlib import Path
 
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import PoseArray
-from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64MultiArray
-from visualization_msgs.msg import Marker
 
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
-from motoflex_ros.frames import (
-    ODOM_FRAME,
-    VEHICLE_FRAME,
-    body_com_poses,
-    road_transform,
-    vehicle_transforms,
-)
-from motoflex_ros.nodes.conversions import (
-    axis_marker,
-    joint_state_msg,
-    mode_series,
-    mode_statuses,
-    poses_msg,
-    results_from_statuses,
-    seconds_to_ns,
-)
-from motoflex_ros.nodes.interfaces import (
-    LATCHED,
-    LATCHED_LAST,
-    RELIABLE,
-    RIG_TOPICS,
-    TF_DYNAMIC,
-    TF_STATIC,
-    Topic,
-)
+from motoflex_ros.frames import road_transform
+from motoflex_ros.nodes.conversions import results_from_statuses, seconds_to_ns, time_ns
+from motoflex_ros.nodes.interfaces import LATCHED, RIG_TOPICS, TF_STATIC, Topic
+from motoflex_ros.nodes.mode_publisher import MODE_TOPICS, ModePublisher
 from motoflex_ros.nodes.pacing import Waiting
 from motoflex_ros.nodes.params import Param, ParameterError
-from motoflex_ros.nodes.runtime import RigNode, latched_qos, publish_patiently, run_node
+from motoflex_ros.nodes.road_publisher import ROAD_PAUSE_S, ROAD_TOPICS, RoadPublisher
+from motoflex_ros.nodes.runtime import RigNode, latched_qos, run_node
 from motoflex_ros.nodes.tf import TfPublisher
 
-__all__ = ["VehicleSimulatorNode", "main", "body_rows"]
-
-FRAME = VEHICLE_FRAME
-WORLD_FRAME = ODOM_FRAME
+__all__ = ["VehicleSimulatorNode", "main"]
 
 
 class VehicleSimulatorNode(RigNode):
@@ -93,24 +58,8 @@ class VehicleSimulatorNode(RigNode):
         Topic("sub", "identification/results", "diagnostic_msgs/msg/DiagnosticArray", LATCHED,
               "the identified parameters, from its run's identification node only",
               when="result_file ''"),
-        Topic("pub", "vehicle/eigenvalues", "diagnostic_msgs/msg/DiagnosticArray", LATCHED,
-              "weave, wobble and capsize over speed (KeyValue JSON lists speeds_kmh, real "
-              "[1/s], frequency_hz), tracked by mode shape"),
-        Topic("pub", "vehicle/modes/speed_kmh", "std_msgs/msg/Float64MultiArray", LATCHED_LAST,
-              "the speeds of the sweep [km/h]", when="after the sweep"),
-        Topic("pub", "vehicle/modes/{c}/frequency_hz", "std_msgs/msg/Float64MultiArray",
-              LATCHED_LAST, "a mode's frequency over speed [Hz] ({c}: weave, wobble, capsize)",
-              when="after the sweep"),
-        Topic("pub", "vehicle/modes/{c}/real_part", "std_msgs/msg/Float64MultiArray",
-              LATCHED_LAST, "a mode's real part over speed [1/s] ({c}: weave, wobble, capsize)",
-              when="after the sweep"),
-        Topic("pub", "vehicle/joint_states", "sensor_msgs/msg/JointState", RELIABLE,
-              "road test: joint angles [rad or m], rates, applied torques, 200 Hz"),
-        Topic("pub", "vehicle/bodies", "geometry_msgs/msg/PoseArray", RELIABLE,
-              "road test: each body's centre-of-mass pose, frame odom, bodies_rate_hz"),
-        Topic("pub", "vehicle/joint_axes", "visualization_msgs/msg/Marker", LATCHED,
-              "one arrow per revolute joint, frame vehicle"),
-        TF_DYNAMIC, TF_STATIC,
+        *MODE_TOPICS,
+        *ROAD_TOPICS, TF_STATIC,
     )
 
     def __init__(self):
@@ -129,15 +78,11 @@ class VehicleSimulatorNode(RigNode):
         self.rigid = load_vehicle(resolve_config("vehicles", p["vehicle"]))
         self.components = {n: load_component(n) for n in p["components"]}
         self.identified = {}
+        self.bench_end_ns = 0   # the latest identified result's stamp: the bench's end
         self.waiting = Waiting(self)
-        self.eig_pub = self.create_publisher(DiagnosticArray, "vehicle/eigenvalues",
-                                             latched_qos())
-        self.joints_pub = self.advertise(JointState, "vehicle/joint_states")
-        self.bodies_pub = self.advertise(PoseArray, "vehicle/bodies")
-        self.axes_pub = self.create_publisher(Marker, "vehicle/joint_axes", latched_qos())
-        self.tf = TfPublisher(self, dynamic=True)
-        self.series_pubs = []
-        self.tf.static([road_transform()])
+        self.modes = ModePublisher(self)
+        self.road = RoadPublisher(self)
+        TfPublisher(self).static([road_transform()])
         if p["result_file"]:
             try:
                 self.identified = load_results_file(Path(p["result_file"]), p["components"])
@@ -150,6 +95,7 @@ class VehicleSimulatorNode(RigNode):
 
     def _on_results(self, msg):
         self.identified.update(results_from_statuses(msg.status))
+        self.bench_end_ns = max(self.bench_end_ns, time_ns(msg.header.stamp))
 
     def inputs_ready(self):
         """Ready at once: the results come when the bench is done."""
@@ -179,58 +125,10 @@ class VehicleSimulatorNode(RigNode):
         speeds = np.arange(p["speed_min_kmh"], p["speed_max_kmh"] + 1e-9,
                            p["speed_step_kmh"]) / 3.6
         sweep = modal_sweep(lin, speeds)
-        self.eig_pub.publish(DiagnosticArray(status=mode_statuses(speeds, sweep.modes)))
-        for name, series in mode_series(speeds, sweep.modes).items():
-            pub = self.create_publisher(Float64MultiArray, f"vehicle/modes/{name}",
-                                        latched_qos(1))
-            pub.publish(series)
-            self.series_pubs.append(pub)
-        for k, joint in enumerate(j for j in model.joints if j.kind == "revolute"):
-            self.axes_pub.publish(axis_marker(k, FRAME, joint.name, joint.point, joint.axis))
-        self._road_test(lin, model, p["road_speed_kmh"] / 3.6, p["bodies_rate_hz"])
+        start_ns = self.bench_end_ns + seconds_to_ns(ROAD_PAUSE_S) if self.bench_end_ns else 0
+        self.modes.publish(speeds, sweep.modes, start_ns)
+        self.road.publish(lin, model, p["road_speed_kmh"] / 3.6, p["bodies_rate_hz"], start_ns)
         self.get_logger().info(f"vehicle: {len(speeds)} speeds, road test published")
-
-    def _road_test(self, lin, model, speed, bodies_rate_hz):
-        from motoflex_ros.vehicle.kinematics import BASE_NAMES
-        from motoflex_ros.vehicle.poses import world_poses
-        from motoflex_ros.vehicle.steer_pulse import steer_pulse_response
-        names = tuple(lin.state_names)
-        pulse = steer_pulse_response(lin, speed, outputs=names)
-        rows = body_rows(pulse.time, bodies_rate_hz)
-        poses = world_poses(lin, pulse.time, pulse.outputs, speed, rows)
-        pose_of_row = {int(row): i for i, row in enumerate(rows)}
-        tree = lin.system.tree
-        coords = [c.name for c in tree.coordinates]
-        joints = [n for n in names if n in coords and f"{n}_rate" in names]
-        steer = model.roles.get("steer", "steer")
-        bodies = [b for b in model.bodies if b.mass > 0]
-        frames = [tree.body_frames[b.name] for b in bodies]
-        coms = [b.com for b in bodies]
-        base = len(BASE_NAMES)   # the frame the base chain moves: the main frame body's
-        for k, (row, t) in enumerate(zip(pulse.outputs, pulse.time)):
-            values = dict(zip(names, row))
-            ns = seconds_to_ns(t)
-            torque = pulse.torque if t < pulse.duration else 0.0
-            efforts = [torque if j == steer else 0.0 for j in joints]
-            publish_patiently(self.joints_pub, joint_state_msg(
-                ns, joints, [values[j] for j in joints], [values[f"{j}_rate"] for j in joints],
-                efforts))
-            i = pose_of_row.get(k)
-            if i is not None:
-                rotations, positions = body_com_poses(poses.rotations[i, frames],
-                                                      poses.translations[i, frames], coms)
-                publish_patiently(self.bodies_pub, poses_msg(ns, WORLD_FRAME, rotations,
-                                                             positions))
-                self.tf.send(ns, vehicle_transforms(
-                    poses.rotations[i, base], poses.translations[i, base],
-                    [b.name for b in bodies], rotations, positions))
-
-
-def body_rows(time, rate_hz):
-    """Indices of the response samples (``time`` [s], uniform) published on /vehicle/bodies at
-    about ``rate_hz`` [Hz]: every n-th sample, n = round(1 / (rate_hz dt)) >= 1, from the first."""
-    dt = (time[-1] - time[0]) / (len(time) - 1) if len(time) > 1 else 1.0
-    return np.arange(0, len(time), max(1, int(round(1.0 / (rate_hz * dt)))))
 
 
 def main(args=None):

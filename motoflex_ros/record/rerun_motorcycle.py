@@ -15,6 +15,7 @@ from scipy.spatial.transform import Rotation
 from motoflex_ros.record import rerun_vehicle as rv
 from motoflex_ros.record.rerun_log import TIMELINE
 from motoflex_ros.units import ms_to_kmh
+from motoflex_ros.vehicle.outline import body_attachments
 
 __all__ = ["log_motorcycle", "ellipsoid_half_sizes", "MIN_HALF_SIZE", "body_geometry",
            "wheel_ring", "body_group", "mode_label", "COMPONENT_COLORS", "posed_body_geometry",
@@ -54,20 +55,6 @@ def body_group(name):
     return "frame"
 
 
-def _attachments(model):
-    """{body: [points [m] in the vehicle frame at rest]}: its joints' points and the centres of
-    the wheels it carries."""
-    points = {b.name: [] for b in model.bodies}
-    for joint in model.joints:
-        for body in (joint.parent, joint.child):
-            if body in points:
-                points[body].append(np.asarray(joint.point, float))
-    for wheel in model.wheels:
-        if wheel.carrier in points:
-            points[wheel.carrier].append(np.asarray(wheel.centre, float))
-    return points
-
-
 def body_geometry(model, reference=None, color=None):
     """{body name: [archetype]} drawing each body a person recognises, in the coordinates of
     its rerun entity: the body's equivalent-inertia ellipsoid (bodies with mass, translucent)
@@ -77,7 +64,7 @@ def body_geometry(model, reference=None, color=None):
     bag's poses are at the centre of mass); default none (the model's rest frame). ``color``
     (a mode's) draws every tube in it and leaves the ellipsoids out: the linkage moving."""
     shapes = {}
-    attached = _attachments(model)
+    attached = body_attachments(model)
     for body in model.bodies:
         points = attached[body.name]
         if not points and body.mass <= 0:

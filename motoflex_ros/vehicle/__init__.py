@@ -13,7 +13,8 @@ of weave/wobble/capsize), ``steer_pulse`` (steer-pulse response), ``superelement
 superelements with one or several ends, bushings), ``flexible_bodies`` (a beam component as the
 paper's flexible bodies: per-body superelements, bushings, spherical links, clamp welds),
 ``flexible_motorcycle`` (the touring motorcycle's per-body map: its flexible bodies joined by
-the vehicle's joints, ``--flex flexible_bodies``).
+the vehicle's joints, ``--flex flexible_bodies``), ``outline`` (where each body holds its joints
+and wheels, for viewers).
 
 Public API::
 

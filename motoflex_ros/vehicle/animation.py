@@ -24,7 +24,8 @@ from motoflex_ros.vehicle.poses import frame_poses, world_poses
 from motoflex_ros.vehicle.steer_pulse import steer_pulse_response
 
 __all__ = ["ModeMotion", "RoadTest", "MotorcycleMotion", "motorcycle_motion",
-           "mode_coordinates", "mode_rows", "road_test", "MODE_AMPLITUDE_RAD",
+           "mode_coordinates", "mode_rows", "road_test", "body_rows",
+           "MODE_AMPLITUDE_RAD",
            "ROAD_AMPLITUDE_RAD", "MODE_FRAMES_PER_CYCLE", "MODE_CYCLES", "DEFAULT_SPEED_MPS"]
 
 MODE_AMPLITUDE_RAD = 0.15
@@ -52,8 +53,9 @@ class ModeMotion:
 class RoadTest:
     """The steer-torque pulse response: ``time`` [s], the joints' series (true size, ``joints``
     names, ``joint_series`` (n_t, n_joints) [rad or m]), body poses in the world frame scaled by
-    ``factor`` (``rotations``, ``translations`` as in ModeMotion), the pulse's ``torque`` [N m]
-    and ``duration`` [s] at ``speed`` [m/s]."""
+    ``factor`` (``rotations``, ``translations`` as in ModeMotion, at the samples ``rows`` of
+    ``time``), the pulse's ``torque`` [N m] and ``duration`` [s] at ``speed`` [m/s]; ``states``
+    (n_t, n_states) the whole response, true size, in ``state_names`` order."""
 
     speed: float
     time: np.ndarray
@@ -64,6 +66,18 @@ class RoadTest:
     factor: float
     torque: float
     duration: float
+    rows: np.ndarray = None
+    state_names: tuple = ()
+    states: np.ndarray = None
+
+    def efforts(self, joints, steer):
+        """Applied joint torques (n_t, len(joints)) [N m]: the pulse on ``steer`` while it
+        lasts, zero elsewhere."""
+        out = np.zeros((len(self.time), len(joints)))
+        if steer in joints:
+            out[:, list(joints).index(steer)] = np.where(self.time < self.duration,
+                                                         self.torque, 0.0)
+        return out
 
 
 @dataclass(frozen=True)
@@ -119,18 +133,36 @@ def mode_rows(lin, speed, eigenvalue):
     return (q_c[None, :] * np.exp(1j * phase)[:, None]).real, lam
 
 
-def road_test(lin, speed):
+def body_rows(time, rate_hz):
+    """Indices of the response samples (``time`` [s], uniform) whose poses are kept at about
+    ``rate_hz`` [Hz]: every n-th sample, n = round(1 / (rate_hz dt)) >= 1, from the first.
+
+    >>> body_rows(np.arange(0.0, 0.05, 0.005), 50.0).tolist()
+    [0, 4, 8]
+    """
+    dt = (time[-1] - time[0]) / (len(time) - 1) if len(time) > 1 else 1.0
+    return np.arange(0, len(time), max(1, int(round(1.0 / (rate_hz * dt)))))
+
+
+def road_test(lin, speed, amplitude_rad=ROAD_AMPLITUDE_RAD, pose_rate_hz=None):
     """RoadTest: the steer-pulse response at ``speed`` [m/s], poses scaled so that the largest
-    angle is :data:`ROAD_AMPLITUDE_RAD`."""
+    angle is ``amplitude_rad`` [rad] (None: true size, as the vehicle_simulator node publishes
+    them), at about ``pose_rate_hz`` [Hz] (:func:`body_rows`; default every sample: the path
+    is integrated over every sample either way)."""
     names = tuple(lin.state_names)
     pulse = steer_pulse_response(lin, speed, outputs=names)
     n_angles = len(lin.system.indep_pos)          # roll and the joint angles
-    factor = ROAD_AMPLITUDE_RAD / max(np.abs(pulse.outputs[:, :n_angles]).max(), 1e-12)
+    factor = 1.0 if amplitude_rad is None else \
+        amplitude_rad / max(np.abs(pulse.outputs[:, :n_angles]).max(), 1e-12)
     joints = tuple(n for n in names if n in {c.name for c in lin.system.tree.coordinates})
     series = np.column_stack([pulse.outputs[:, names.index(n)] for n in joints])
-    poses = world_poses(lin, pulse.time, factor * pulse.outputs, speed)
+    rows = None if pose_rate_hz is None else body_rows(pulse.time, pose_rate_hz)
+    poses = world_poses(lin, pulse.time, pulse.outputs if amplitude_rad is None
+                        else factor * pulse.outputs, speed, rows)
     return RoadTest(speed, pulse.time, joints, series, poses.rotations, poses.translations,
-                    factor, pulse.torque, pulse.duration)
+                    factor, pulse.torque, pulse.duration,
+                    np.arange(len(pulse.time)) if rows is None else np.asarray(rows, int),
+                    names, pulse.outputs)
 
 
 def motorcycle_motion(model, speed_mps=DEFAULT_SPEED_MPS, modes=None, road=True):
