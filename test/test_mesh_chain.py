@@ -112,22 +112,3 @@ def test_components_json_same_shape_as_beam(bracket):
     assert mesh["warnings"] == []
     for label in ("torsion", "bending"):
         assert mesh[f"f_{label}_hz"] == pytest.approx(mesh[f"f_{label}_full_hz"], rel=0.005)
-
-
-@pytest.mark.ros
-@pytest.mark.slow
-def test_campaign_graph_runs_a_mesh_file_and_draws_it(bracket, tmp_path):
-    """``motoflex campaign --components FILE``: the mesh component's bench topics go by its name
-    (/bench/bracket/...), the graph identifies what ``identify`` does offline (same samples, same
-    numbers), the run folder names the file (component_files.json) and the rerun recording draws
-    the mesh on the bench."""
-    from motoflex_ros.record.rerun_readback import entity_rows
-    bag = tmp_path / "run"
-    out = json.loads(run_cli("campaign", "--component", bracket, "--report", "quick",
-                             "--out", str(bag), "--json"))
-    offline = run_campaign(setup_campaign(bracket), seed=0).identification.to_dict()
-    assert out["bracket"]["static"]["k"] == pytest.approx(offline["static"]["k"], rel=1e-9)
-    assert out["bracket"]["k_t"] == pytest.approx(offline["k_t"], rel=1e-9)
-    assert json.loads((bag / "component_files.json").read_text()) == {"bracket": bracket}
-    rows = entity_rows(bag / "run.rrd")
-    assert rows.get("/bench/bracket/structure", 0) > 0

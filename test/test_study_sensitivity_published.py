@@ -40,8 +40,6 @@ from motoflex_ros.study.sensitivity import run_sensitivity
 from motoflex_ros.units import kmh_to_ms
 from motoflex_ros.vehicle.model import load_vehicle
 
-pytestmark = pytest.mark.slow
-
 NOMINALS = ("identified", "table2")
 STEP_KMH, CLI_STEP_KMH = 10.0, 1.0
 INDICES = ("weave_low", "weave_high", "wobble_low", "wobble_high")
