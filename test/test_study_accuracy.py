@@ -8,6 +8,7 @@ import sys
 import numpy as np
 import pytest
 from deviations import known_deviation
+from regression import expected
 
 from motoflex_ros.bench.campaign import identify_components
 from motoflex_ros.config import config_path
@@ -29,13 +30,18 @@ from motoflex_ros.vehicle.model import load_vehicle
 SPEEDS = np.arange(40.0, 211.0, 10.0) / 3.6
 
 
-@pytest.fixture(scope="module")
-def identified_file(tmp_path_factory):
+def identified_components():
+    """The bench identification of the three components with their carried inertias (seed 0),
+    as identification.json holds it."""
     components, carried = carried_inertias(["frame", "front_assembly", "swingarm"])
     runs = identify_components(components, carried=carried)
-    data = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
+    return {name: run.identification.to_dict() for name, (_, run) in runs.items()}
+
+
+@pytest.fixture(scope="module")
+def identified_file(tmp_path_factory):
     path = tmp_path_factory.mktemp("ident") / "identification.json"
-    path.write_text(json.dumps(data))
+    path.write_text(json.dumps(identified_components()))
     return path
 
 
@@ -115,29 +121,37 @@ def test_published_static_lowest_error_in_every_case(verb_run, case):
     assert totals["static"] <= min(totals.values()) * (1 + TIE), (case, totals)
 
 
+@pytest.mark.regression
 def test_swingarm_hinges_lack_the_fe_yaw_compliance(identified_file):
     """The measured cause of the swingarm's xfail above. A hinge's compliance at q0 is rank
     one, s s^T / k (s its unit twist there). The static test fits it to the FE's response to
     a lateral force at the axle, so its yaw compliance is C_yz^2 / C_yy (Cauchy-Schwarz: at
     most C_zz), 0.38 of the FE's; the bending hinge, softer, has 0.45 of it. The weave loads
     the rear axle with a yaw moment too, which no such hinge carries as the FE does."""
+    fe, hinges = swingarm_hinge_compliances(json.loads(identified_file.read_text())["swingarm"])
+    hinge = hinges["static"]            # the bench's load case, within the identification
+    assert hinge[1, 1] == pytest.approx(fe[1, 1], rel=0.01)
+    assert hinge[5, 1] == pytest.approx(fe[5, 1], rel=0.01)
+    assert hinge[5, 5] == pytest.approx(fe[5, 1] ** 2 / fe[1, 1], rel=0.02)
+    for test in ("static", "bending"):     # regression: the shares our code gave (the commit
+        share = hinges[test][5, 5] / fe[5, 5]   # in test/regression_values.json)
+        assert share == expected(f"swingarm_yaw_share.{test}"), (test, share)
+
+
+def swingarm_hinge_compliances(found):
+    """The swingarm's clamped FE end compliance at q0 (6 x 6, [m/N, rad/(N m)]) and the
+    compliance s s^T / k of its static and bending hinges ``found`` (an identification.json
+    entry) there."""
     comp = load_component("swingarm")
     reduced = comp.clamped_reduced()
     fe = np.column_stack([reduced.static_end_motion(e) for e in np.eye(6)])
     site = lumped.site_of(comp)
-    found = json.loads(identified_file.read_text())["swingarm"]
-    yaw = {}
+    hinges = {}
     for test in ("static", "bending"):
         point, axis = lumped.axis_in_vehicle(site, found[test]["l"], found[test]["beta"])
         twist = np.r_[np.cross(axis, site.origin + site.q0 - point), axis]
-        hinge = np.outer(twist, twist) / found[test]["k"]
-        yaw[test] = hinge[5, 5] / fe[5, 5]
-        if test == "static":            # the bench's load case, within the identification
-            assert hinge[1, 1] == pytest.approx(fe[1, 1], rel=0.01)
-            assert hinge[5, 1] == pytest.approx(fe[5, 1], rel=0.01)
-            assert hinge[5, 5] == pytest.approx(fe[5, 1] ** 2 / fe[1, 1], rel=0.02)
-    assert yaw["static"] == pytest.approx(0.376, abs=0.01)
-    assert yaw["bending"] == pytest.approx(0.447, abs=0.01)
+        hinges[test] = np.outer(twist, twist) / found[test]["k"]
+    return fe, hinges
 
 
 def test_published_frame_identified_models_beat_the_state_of_the_art(verb_run):
