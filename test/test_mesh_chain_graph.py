@@ -1,12 +1,22 @@
 """The solid mesh component of test_mesh_chain through the ROS graph (``motoflex campaign``):
 a file of its own because it starts node processes (test/conftest.py: ROS_FILES)."""
 import json
+import subprocess
+import sys
 
 import pytest
-from test_mesh_chain import run_cli
 
 from motoflex_ros.bench.campaign import run_campaign, setup_campaign
 from motoflex_ros.structures.mesh_examples import write_bracket_component
+
+
+def run_cli(*args):
+    """The stdout of ``motoflex args`` in a process of its own (the campaign starts ROS nodes)."""
+    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", *args],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert "Traceback" not in result.stderr
+    return result.stdout
 
 
 @pytest.fixture
