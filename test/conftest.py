@@ -5,8 +5,8 @@ Markers (registered in pyproject.toml) are given here per file, not one by one i
 - ``ros``: the files in ROS_FILES, whose every test starts ROS 2 node processes. A test
   marked ``ros`` in any other file is refused at collection (it would run beside the graph
   tests instead of after them): such a test goes into a ROS file of its own.
-- ``slow``: the files in SLOW_FILES and the tests marked ``slow`` one by one (over a few
-  seconds of an idle core).
+- ``slow``: the files in SLOW_FILES, the tests in SLOW_TESTS and the tests marked ``slow``
+  one by one (over a few seconds of an idle core).
 - ``fast``: every test that is neither ``ros`` nor ``slow``: ``./test.sh -m fast`` is the
   everyday tier (docs/testing.md).
 
@@ -48,15 +48,32 @@ ROS_FILES = {
     "test_node_interfaces.py", "test_replay_rate.py", "test_ros_network_nodes.py",
     "test_ros_nodes.py", "test_run_trust.py",
 }
-# Files whose every test is slow (a module fixture of half a minute or more, or every test
-# over a few seconds): the Kane oracle's symbolic derivation, the gmsh and solid-frame meshes,
-# the published sensitivity's fits; and the ROS files that start whole campaigns.
+# Files whose every test is slow (a module fixture of ten seconds or more, or most tests over a
+# few seconds): the Kane oracle's symbolic derivation, the gmsh and solid-frame meshes, the
+# flexible motorcycle and the per-body syntheses, the accuracy study's verb run, the noise and
+# decay seeds, the measured bags, the rerun recordings, the 60 bad-input commands (a child
+# each, for the hang guard); and the ROS files that start whole campaigns. Measured with
+# ``./test.sh -m fast --durations=30`` (docs/testing.md).
 SLOW_FILES = {
-    "test_campaign_bag.py", "test_campaign_graph.py", "test_campaign_launch_run.py",
-    "test_campaign_namespaces.py", "test_docs_ros.py", "test_faults.py", "test_frame_mesh.py",
-    "test_frame_mesh_vehicle.py", "test_measured_live.py", "test_mesh_chain_graph.py",
-    "test_mesh_gmsh.py", "test_run_trust.py", "test_study_sensitivity_published.py",
+    "test_bad_inputs.py", "test_campaign_bag.py", "test_campaign_graph.py",
+    "test_campaign_launch_run.py", "test_campaign_namespaces.py", "test_decomposed.py",
+    "test_docs_ros.py", "test_faults.py", "test_flexible_bodies_bench.py",
+    "test_flexible_motorcycle.py", "test_frame_mesh.py", "test_frame_mesh_vehicle.py",
+    "test_identify_decay_noise.py", "test_measured_bag.py", "test_measured_identify.py",
+    "test_measured_live.py", "test_mesh_chain_graph.py", "test_mesh_gmsh.py",
+    "test_principal_noise.py", "test_rerun_bag.py", "test_rerun_blueprint.py",
+    "test_run_trust.py", "test_study_accuracy.py", "test_study_sensitivity_published.py",
     "test_vehicle_kane.py",
+}
+# Single slow tests in otherwise fast files (``file::function``, every parameter of it).
+SLOW_TESTS = {
+    "test_bag_integrity.py::test_flipped_bit_fails_every_read_naming_chunk_and_offset",
+    "test_bag_integrity.py::test_repair_of_a_finished_bag_writes_a_new_marked_bag",
+    "test_bag_integrity.py::test_report_refuses_a_run_without_its_identification",
+    "test_bench_campaign.py::test_same_seed_same_numbers_other_seed_other_numbers",
+    "test_docs.py::test_getting_started_example_runs",
+    "test_hostile_inputs.py::test_real_failed_replay_keeps_its_logs_beside_its_output",
+    "test_report_summary.py::test_summary_names_the_outcome_handed_over_before_status_json",
 }
 # The fault injection into running campaigns (issue 13): ./test.sh -m faults runs it alone.
 FAULT_FILES = {"test_faults.py"}
@@ -93,9 +110,12 @@ def pytest_xdist_make_scheduler(config, log):
     return FileGroupScheduling(config, log)
 
 
-def _file_marks(name):
+def _file_marks(item):
+    name = item.path.name
     marks = [m for m, files in (("ros", ROS_FILES), ("slow", SLOW_FILES),
                                 ("faults", FAULT_FILES)) if name in files]
+    if f"{name}::{getattr(item, 'originalname', item.name)}" in SLOW_TESTS:
+        marks.append("slow")
     return [getattr(pytest.mark, m) for m in marks]
 
 
@@ -109,7 +129,7 @@ def pytest_collection_modifyitems(config, items):
     """Marks and group by file (module docstring); refuses a ``ros`` test outside ROS_FILES."""
     for item in items:
         path = item.nodeid.split("::", 1)[0]
-        for mark in _file_marks(item.path.name):
+        for mark in _file_marks(item):
             item.add_marker(mark)
         if item.get_closest_marker("ros") and item.path.name not in ROS_FILES:
             raise pytest.UsageError(f"{item.nodeid}: marked ros outside ROS_FILES of "

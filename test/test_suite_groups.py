@@ -10,9 +10,11 @@ from types import SimpleNamespace
 
 import pytest
 from conftest import (
+    FAULT_FILES,
     ROS_FILES,
     ROS_GROUP,
     SLOW_FILES,
+    SLOW_TESTS,
     grouped_nodeid,
     pytest_collection_modifyitems,
     pytest_xdist_make_scheduler,
@@ -89,6 +91,7 @@ class Item:
 
     def __init__(self, nodeid, *marks):
         self.nodeid, self.path = nodeid, Path(nodeid.split("::")[0])
+        self.name = self.originalname = nodeid.split("::")[1]
         self.marks = {m: getattr(pytest.mark, m) for m in marks}
 
     def get_closest_marker(self, name):
@@ -112,3 +115,13 @@ def test_marks_by_file_fast_tier_and_ros_order():
 def test_a_ros_test_outside_the_ros_files_is_refused():
     with pytest.raises(pytest.UsageError, match="test_lumped.py::a: marked ros outside"):
         pytest_collection_modifyitems(None, [Item("test/test_lumped.py::a", "ros")])
+
+
+def test_every_listed_file_and_test_exists():
+    """A renamed file or test would silently leave its list (and the tier it marks)."""
+    here = Path(__file__).parent
+    for name in ROS_FILES | SLOW_FILES | FAULT_FILES:
+        assert (here / name).is_file(), name
+    for entry in SLOW_TESTS:
+        name, function = entry.split("::")
+        assert f"def {function}(" in (here / name).read_text(encoding="utf-8"), entry
