@@ -7,5 +7,6 @@ source tools/ensure_env.sh
 export ROS_LOG_DIR="${ROS_LOG_DIR:-$(mktemp -d)}"
 rerun analytics disable >/dev/null 2>&1 || true
 # Two workers (xdist): the ROS graph tests one after the other on one, the numerical tests beside
-# them (test/conftest.py); `./test.sh -n 0` runs everything in one process.
-python -m pytest -q -n 2 --dist loadscope "$@"
+# them (groups by file, test/conftest.py); `./test.sh -n 0` runs everything in one process;
+# `./test.sh -m fast` is the everyday tier (no ROS, no slow tests; docs/testing.md).
+python -m pytest -q -n 2 --dist loadgroup --no-loadscope-reorder "$@"

@@ -1,6 +1,9 @@
 """Helpers of the hostile input and output tests (issue 23): run ``motoflex`` in this process
 (or, where a hang is possible, in a child with a timeout) and check a refusal: a non-zero exit,
 one line naming what and where, no traceback, within CPU_GUARD_S."""
+import contextlib
+import io
+import os
 import subprocess
 import sys
 import time
@@ -28,6 +31,25 @@ def cli(argv, capsys):
     code = main([str(a) for a in argv])
     err = capsys.readouterr().err.strip()
     return code, err, time.process_time() - start
+
+
+def run_motoflex(argv, cwd=None):
+    """``motoflex argv`` run in this process (in ``cwd``), returned as ``subprocess.run(...,
+    capture_output=True, text=True)`` returns a child's: the CLI's own start-up (an interpreter,
+    numpy, scipy: 1-3 CPU-s a call) is what a child adds, not what the tests check. Not for a
+    verb that starts ROS nodes or could block (refused_in_child)."""
+    from motoflex_ros.cli.main import main
+    out, err, here = io.StringIO(), io.StringIO(), os.getcwd()
+    try:
+        os.chdir(cwd or here)
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                code = main([str(a) for a in argv])
+            except SystemExit as exc:       # argparse's refusals
+                code = exc.code if isinstance(exc.code, int) else int(exc.code is not None)
+    finally:
+        os.chdir(here)
+    return subprocess.CompletedProcess(argv, code, out.getvalue(), err.getvalue())
 
 
 def check_refusal(code, err, cpu, words):

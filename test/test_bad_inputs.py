@@ -346,15 +346,6 @@ def test_enough_cases():
     assert len(ISSUE_CASES) >= 11 and len(MORE_CASES) >= 20
 
 
-@pytest.fixture
-def node_env(tmp_path_factory):
-    """A private ROS domain and log folder for the node cases (outside the case's folder)."""
-    from motoflex_ros.launcher.domain import DomainLock
-    from motoflex_ros.launcher.graph import ros_env
-    with DomainLock() as lock:
-        yield ros_env(lock.domain_id, tmp_path_factory.mktemp("ros_log"))
-
-
 def _write(folder, files):
     for name, content in files.items():
         path = folder / name
@@ -410,26 +401,25 @@ def run_guarded(cmd, env, cwd):
         return subprocess.CompletedProcess(cmd, proc.returncode, out.read(), err.read())
 
 
-@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.ros) if CASES[n].node else n
-                                  for n in sorted(CASES)])
-def test_bad_input_is_refused_in_one_line(name, tmp_path, request):
-    case = CASES[name]
-    folder = tmp_path / "case"
-    folder.mkdir()
+def assert_refused(case, folder, cmd, env):
+    """Run ``cmd`` (the case's files written into ``folder``): non-zero exit, no traceback, the
+    file and key named on stderr, no file left behind."""
     _write(folder, case.files)
     before = sorted(folder.rglob("*"))
-    if case.node:
-        env = request.getfixturevalue("node_env")
-        cmd = NODE + _argv(case, folder)
-    else:
-        env = dict(os.environ)
-        cmd = CLI + _argv(case, folder)
-    result = run_guarded(cmd, env, folder)
+    result = run_guarded(cmd + _argv(case, folder), env, folder)
     output = result.stdout + result.stderr
     assert result.returncode != 0, output
     assert "Traceback" not in output, output
     assert case.where in result.stderr and case.key in result.stderr, result.stderr
     assert sorted(folder.rglob("*")) == before, "an output file was left"
+
+
+@pytest.mark.parametrize("name", sorted(n for n in CASES if not CASES[n].node))
+def test_bad_input_is_refused_in_one_line(name, tmp_path):
+    """The CLI cases; the node cases (a ROS node process each) are in test_bad_inputs_nodes."""
+    folder = tmp_path / "case"
+    folder.mkdir()
+    assert_refused(CASES[name], folder, CLI, dict(os.environ))
 
 
 def test_limit_option_raises_and_lowers_a_limit(tmp_path):

@@ -18,8 +18,6 @@ import pytest
 import yaml
 from scipy.spatial.transform import Rotation
 
-pytestmark = [pytest.mark.ros, pytest.mark.slow]
-
 
 @pytest.fixture(scope="module")
 def bag(tmp_path_factory):

@@ -19,8 +19,6 @@ pytest.importorskip("rclpy")
 from motoflex_ros.cli.output import to_jsonable  # noqa: E402
 from motoflex_ros.record import mcap_bag  # noqa: E402
 
-pytestmark = [pytest.mark.ros, pytest.mark.slow]
-
 COMPONENT = "swingarm"
 
 

@@ -26,8 +26,6 @@ from motoflex_ros.cli.output import to_jsonable  # noqa: E402
 from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
 from motoflex_ros.record import mcap_bag  # noqa: E402
 
-pytestmark = [pytest.mark.ros, pytest.mark.slow]
-
 
 def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
     from motoflex_ros.bench.offline_campaign import identify_components

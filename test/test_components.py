@@ -5,12 +5,11 @@ frame 74/93 Hz, front assembly 28/79 Hz, swingarm 321/112 Hz) and Table 2 (k abo
 axis: 1.03e6, 1.06e4, 1.33e5 N m/rad). Tolerances are the issue's: 5 % and 10 %.
 """
 import copy
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 import yaml
+from hostile import run_motoflex
 
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import config_path
@@ -154,8 +153,7 @@ def test_bad_component_config_names_key(what, base, path, value, key, tmp_path, 
 def test_bad_component_cli_exit_without_traceback(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text(yaml.safe_dump(_set(_tube(), "material.E", -1.0)))
-    p = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "components",
-                        "--component", str(bad)], capture_output=True, text=True)
+    p = run_motoflex(["components", "--component", bad])
     assert p.returncode != 0
     assert "material.E" in p.stderr and "Traceback" not in p.stderr
 

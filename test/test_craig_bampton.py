@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
+from deviations import known_deviation
 
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.structures import load_component
@@ -46,7 +47,7 @@ def _compare_frequencies(name, f_limit):
 # Our beam models have only 2-11 fixed-interface modes below 600 Hz, and the clamped modes at
 # 230-290 Hz come out 1-3 % high (truncation: (f / f_cut)^2 is already 0.15 there). Kept as a
 # strict xfail so that it reports when a model or the reduction starts to meet it.
-@pytest.mark.xfail(strict=True, reason="CB truncation at 600 Hz: 1-3 % error at 230-290 Hz")
+@known_deviation("cb-truncation", "CB truncation at 600 Hz: 1-3 % high at 230-290 Hz")
 @pytest.mark.parametrize("name", MOTORCYCLE_COMPONENTS)
 def test_eigenfrequencies_below_300hz_equal_full_model(name):
     reduced, full = _compare_frequencies(name, 300.0)

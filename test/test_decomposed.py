@@ -10,6 +10,7 @@ records that as an expected failure with the reason, so that it is noticed if it
 """
 import numpy as np
 import pytest
+from deviations import known_deviation
 
 from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
@@ -54,9 +55,7 @@ def test_decomposed_equals_static_roundtrip(setup, component):
     assert difference["weave"] < 0.01 and difference["wobble"] < 0.01, difference
 
 
-@pytest.mark.xfail(strict=True, reason="front assembly: the two eq.-12 joints reproduce only the "
-                   "static test's lateral-force response (torsion arm 0.031 m, static arm "
-                   "0.082 m); wobble differs by up to 6.9 % (weave 0.6 %)")
+@known_deviation("decomposed-front-assembly", "front assembly: wobble 6.9 % off the static hinge")
 def test_decomposed_equals_static_front_assembly(setup):
     difference = largest_difference(setup, "front_assembly")
     assert difference["weave"] < 0.01 and difference["wobble"] < 0.01, difference
@@ -68,8 +67,8 @@ def test_decomposed_equals_static_frame_and_swingarm_together(setup):
     assert difference["weave"] < 0.01 and difference["wobble"] < 0.01, difference
 
 
-@pytest.mark.xfail(strict=True, reason="all three components: the front assembly's 6.9 % on "
-                   "wobble carries over (weave 1.1 %, wobble 6.8 %); see the front-assembly case")
+@known_deviation("decomposed-front-assembly",
+                 "all three: the front assembly's wobble 6.8 % carries over")
 def test_decomposed_equals_static_all_components(setup):
     difference = largest_difference(setup, list(COMPONENTS))
     assert difference["weave"] < 0.01 and difference["wobble"] < 0.01, difference

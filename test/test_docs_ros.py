@@ -16,7 +16,6 @@ from doc_pages import DOCS, commands, example_folder, examples, run_example, sec
 from motoflex_ros.launcher.domain import DomainLock
 from motoflex_ros.launcher.graph import ros_env
 
-pytestmark = [pytest.mark.ros, pytest.mark.slow]
 HAND_STARTED = "## The bench started by hand"
 IDENTIFIED_K = 1.04648e6   # the frame's k the page quotes [N m/rad]
 

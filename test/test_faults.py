@@ -37,8 +37,6 @@ from test_campaign_graph import (  # noqa: E402  (the campaign tests' helpers)
 from motoflex_ros.launcher.status import read_status  # noqa: E402
 from motoflex_ros.record import mcap_bag  # noqa: E402
 
-pytestmark = [pytest.mark.faults, pytest.mark.ros, pytest.mark.slow]
-
 FAULT_S = 10.0   # longest time from a fault to the run's non-zero exit [s]
 EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 NODES = ("load_actuator", "component_simulator", "displacement_sensor", "identification",

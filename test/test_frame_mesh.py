@@ -31,7 +31,6 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
 import frame_mesh  # noqa: E402  (tools/frame_mesh.py: the geometry's definition)
 
-pytestmark = pytest.mark.slow
 YAML = ROOT / "config" / "components" / "mesh" / "frame_mesh.yaml"
 RHO = 7850.0
 MASS_RTOL = 2e-3      # the quadratic faces and the straightened elements against the CAD

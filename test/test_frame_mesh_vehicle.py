@@ -24,7 +24,6 @@ from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep
 
-pytestmark = pytest.mark.slow
 MESH = config_path("components", "mesh/frame_mesh")
 SPEEDS = np.array([40.0, 120.0, 210.0]) / 3.6
 

@@ -9,6 +9,7 @@
 import functools
 
 import pytest
+from deviations import known_deviation
 
 from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign
 
@@ -28,20 +29,11 @@ def test_table2_static_stiffness_published(component):
     assert identified(component)["k"] == pytest.approx(PAPER_TABLE2[component]["k"], rel=0.10)
 
 
-AXES_DIFFER = pytest.mark.xfail(strict=True, reason=(
-    "k_t / k_b follows from eq. (12b) and the axes alone, b_t sin(beta_t - beta) / (b_b "
-    "sin(beta - beta_b)); the components are calibrated to Table 1 and k, not to the axes of "
-    "Figs. 5-7, and their static axes lie 3-6 deg from where the paper's ratio needs them "
-    "(frame +0.105 rad, front assembly +0.055 rad, swingarm -0.064 rad; issue 4 report; front "
-    "assembly since issue 12's physical load path: k_t / k_b 0.048 against the paper's 0.035)"))
+AXES_DIFFER = known_deviation("table2-split-axes",
+                              "k_t / k_b set by our static axes, 3-6 deg from the paper's")
 
-FRONT_SPLIT = pytest.mark.xfail(strict=True, reason=(
-    "front assembly: k_b 8.9e4 against 1.71e5 N m/rad (-48 %; k_t 4.3e3 against 5.95e3, -28 %) "
-    "while k holds (1.11e4 against 1.06e4): eq. 12a, b^2/k = b_t^2/k_t + b_b^2/k_b, with our "
-    "axes (b 0.082, b_t 0.031, b_b 0.184 m) turns Table 2's k_t and k_b into k = 1.9e4, so the "
-    "three cannot hold together on this geometry. Since issue 12 the compliance sits where a "
-    "Telelever has it (lower fork, stanchion joint links, stanchions; no steering-head spring), "
-    "calibrated to Table 1 and k; config/components/front_assembly.yaml"))
+FRONT_SPLIT = known_deviation("table2-front-assembly-kb",
+                              "front assembly: k_b -48 % while k holds (eq. 12a)")
 
 
 @pytest.mark.parametrize("component, key", [

@@ -3,6 +3,7 @@
 rclpy's C++ deserialisation as "TypeError: Unable to convert function return value", a traceback
 instead of "interrupted by SIGTERM". Each case runs in a process of its own (signal handlers
 belong to a process's main thread)."""
+import signal
 import subprocess
 import sys
 import textwrap
@@ -29,10 +30,18 @@ SCRIPT = textwrap.dedent("""
 """)
 
 
+def _default_signals():
+    """The child starts with SIGINT and SIGTERM at their defaults, whatever the test process
+    had: an ignored signal is inherited across exec (once seen on an xdist worker: the child's
+    SIGINT stayed ignored and its handler was 'restored' to SIG_IGN)."""
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, signal.SIG_DFL)
+
+
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
 def test_signal_is_noted_then_raised_at_the_safe_point(sig):
     result = subprocess.run([sys.executable, "-c", SCRIPT.format(sig=sig)], capture_output=True,
-                            text=True, timeout=60)
+                            text=True, timeout=60, preexec_fn=_default_signals)
     assert result.returncode == 0, result.stderr
     assert result.stdout.split("\n")[:2] == [f"raised {sig}", "restored True"], result.stdout
 

@@ -9,6 +9,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from hostile import run_motoflex
 
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError, ModelError
@@ -148,17 +149,13 @@ def test_eig_verb_with_flex_variant(identified, tmp_path):
     """``motoflex eig --flex`` builds the variant from a result file; its weave and wobble equal
     the core's sweep of the same variant."""
     import json
-    import subprocess
-    import sys
 
     from motoflex_ros.vehicle.modes import modal_sweep
 
     path = tmp_path / "identified.json"
     path.write_text(json.dumps(identified, default=float))
-    result = subprocess.run(
-        [sys.executable, "-m", "motoflex_ros.cli.main", "eig", "--vehicle", "touring",
-         "--speeds-ms", "20", "40", "--flex", "static", "--component", "swingarm",
-         "--identified", str(path), "--json"], capture_output=True, text=True)
+    result = run_motoflex(["eig", "--vehicle", "touring", "--speeds-ms", "20", "40", "--flex",
+                           "static", "--component", "swingarm", "--identified", path, "--json"])
     assert result.returncode == 0, result.stderr
     out = json.loads(result.stdout)
     vehicle = load_vehicle(config_path("vehicles", "touring"))
@@ -168,9 +165,8 @@ def test_eig_verb_with_flex_variant(identified, tmp_path):
     for mode in ("weave", "wobble"):
         got = np.array([complex(*z) for z in out["modes"][mode]])
         assert np.allclose(got, sweep.modes[mode], rtol=1e-9)
-    bad = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "eig", "--vehicle",
-                          "touring", "--speeds-ms", "20", "--flex", "static", "--component",
-                          "fork"], capture_output=True, text=True)
+    bad = run_motoflex(["eig", "--vehicle", "touring", "--speeds-ms", "20", "--flex", "static",
+                        "--component", "fork"])
     assert bad.returncode == 2 and "unknown component 'fork'" in bad.stderr
 
 

@@ -30,7 +30,6 @@ from motoflex_ros.identify.measured import identify_measured  # noqa: E402
 from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
 from motoflex_ros.launcher.graph import ros_env  # noqa: E402
 
-pytestmark = [pytest.mark.ros, pytest.mark.slow]
 HANG_GUARD_S = 600.0
 HERE = Path(__file__).resolve().parent
 

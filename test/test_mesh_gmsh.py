@@ -35,7 +35,6 @@ from test_mesh_component import (  # noqa: E402  (the closed forms of the tube)
     timoshenko_tip,
 )
 
-pytestmark = pytest.mark.slow
 SIZES = (0.012, 0.008)   # gmsh element size [m], coarse then fine
 
 

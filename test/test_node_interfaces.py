@@ -19,8 +19,6 @@ from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
 from motoflex_ros.nodes import NODE_CLASSES  # noqa: E402
 from motoflex_ros.nodes.interfaces import expand  # noqa: E402
 
-pytestmark = [pytest.mark.ros]
-
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "bags" / "example"
 COMPONENT = "swingarm"

@@ -28,8 +28,6 @@ from motoflex_ros.launcher.status import write_status  # noqa: E402
 from motoflex_ros.nodes.stamps import time_msg  # noqa: E402
 from motoflex_ros.record.mcap_bag import BagWriter, read_messages  # noqa: E402
 
-pytestmark = pytest.mark.ros
-
 DURATION_S = 1.2
 MATCH_GRACE_S = 0.5
 TOPICS = {"/clock": "rosgraph_msgs/msg/Clock", "/probe/text": "std_msgs/msg/String"}

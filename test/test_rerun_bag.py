@@ -10,6 +10,7 @@ import sys
 
 import numpy as np
 import pytest
+from hostile import run_motoflex
 
 from motoflex_ros.record.mcap_bag import BagWriter
 from motoflex_ros.record.rerun_readback import (
@@ -181,9 +182,9 @@ def make_bag(path, with_results=False, eigenvalues=True):
         _vehicle_outputs(writer, values, eigenvalues)
     if with_results:
         _identification_file(path, reduced, values)
-        eig = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "eig", "--vehicle",
-                              "touring", "--range-kmh", "40", "210", "--step-kmh", "10", "--json"],
-                             capture_output=True, text=True, check=True)
+        eig = run_motoflex(["eig", "--vehicle", "touring", "--range-kmh", "40", "210",
+                            "--step-kmh", "10", "--json"])
+        assert eig.returncode == 0, eig.stderr
         (path / "eig.json").write_text(eig.stdout)
     return values
 

@@ -18,8 +18,6 @@ from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
 from motoflex_ros.launcher.graph import ros_env  # noqa: E402
 from motoflex_ros.record import mcap_bag  # noqa: E402
 
-pytestmark = pytest.mark.ros
-
 
 @pytest.fixture
 def env(tmp_path):

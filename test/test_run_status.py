@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from hostile import run_motoflex
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.launcher.status import (
@@ -26,6 +27,10 @@ RESULT = "identification.json"
 
 
 def _cli(*argv):
+    """``report`` in this process (hostile.run_motoflex); ``replay`` (ROS nodes for
+    --identify) in a process of its own."""
+    if argv[0] != "replay":
+        return run_motoflex(argv)
     return subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", *map(str, argv)],
                           capture_output=True, text=True, timeout=120)
 

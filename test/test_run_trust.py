@@ -23,8 +23,6 @@ from motoflex_ros import input_pins  # noqa: E402
 from motoflex_ros.config import config_path  # noqa: E402
 from motoflex_ros.launcher.status import read_status  # noqa: E402
 
-pytestmark = [pytest.mark.ros, pytest.mark.slow]
-
 FAULT_S = 10.0
 
 

@@ -7,6 +7,8 @@ import sys
 
 import numpy as np
 import pytest
+from deviations import known_deviation
+from regression import expected
 
 from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
@@ -28,13 +30,18 @@ from motoflex_ros.vehicle.model import load_vehicle
 SPEEDS = np.arange(40.0, 211.0, 10.0) / 3.6
 
 
-@pytest.fixture(scope="module")
-def identified_file(tmp_path_factory):
+def identified_components():
+    """The bench identification of the three components with their carried inertias (seed 0),
+    as identification.json holds it."""
     components, carried = carried_inertias(["frame", "front_assembly", "swingarm"])
     runs = identify_components(components, carried=carried)
-    data = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
+    return {name: run.identification.to_dict() for name, (_, run) in runs.items()}
+
+
+@pytest.fixture(scope="module")
+def identified_file(tmp_path_factory):
     path = tmp_path_factory.mktemp("ident") / "identification.json"
-    path.write_text(json.dumps(data))
+    path.write_text(json.dumps(identified_components()))
     return path
 
 
@@ -81,25 +88,8 @@ def test_accuracy_verb_end_to_end(verb_run):
     assert (plots / "fig9_front_assembly.png").stat().st_size > 10_000
 
 
-FRONT_CAUSE = ("bench and vehicle see the same structure (each body of the front assembly "
-               "moves with the vehicle body that holds it, its arm on the frame's pivot; "
-               "docs/boundary-conditions.md), the per-body reductions equal the single FE "
-               "model (test_structures_bodies), the lumped and flexible models move the same "
-               "lower fork (1e-9). The static hinge is the misfit, not the lumping: a single "
-               "hinge fitted to the flexible motorcycle gives at most 1.6 % (the 'fitted' "
-               "variant), and it carries the wobble wrench with the FE model's compliance "
-               "(1.02) where the static hinge carries 4.5 % of it. In wobble the fork is loaded "
-               "by the tyre's side force 0.33 m below the axle; a bench loaded there (road_load, "
-               "vehicle_load) fixes the wobble frequency (5.3 -> 1.2-1.4 %) but not the real "
-               "part (27-28 %): the axis of eqs 1-7 from one load case is not the one the "
-               "motorcycle deflects about (fitted hinge l 0.667 m, beta 19.7 deg, b -0.040 m; "
-               "static 0.269 m, 162.8 deg, 0.082 m)")
-
-
-@pytest.mark.xfail(strict=True, reason="ours (10 km/h grid): alike on wobble (f 3.3 vs 3.1 %, Re "
-                   "37.8 vs 35.6 %) but not on the weave real part (3.4 vs 1.9 %) once the "
-                   "state-of-the-art stiffness is measured, as the paper says, with a lateral "
-                   "force at the axle; " + FRONT_CAUSE)
+@known_deviation("front-assembly-static-hinge",
+                 "front assembly: weave Re 3.4 vs 1.9 % (state of the art vs bending)")
 def test_published_state_of_the_art_and_bending_alike_for_front_assembly(verb_run):
     """Sect. 5.2.2: for the front assembly the state-of-the-art and the bending models give
     very similar results (the bending axis is almost perpendicular to the fork)."""
@@ -118,26 +108,10 @@ static is lowest on both (40.97 vs 42.08 %, 40.92 vs 41.68 %)."""
 
 @pytest.mark.parametrize("case", [
     "frame", "all",
-    pytest.param("front_assembly", marks=pytest.mark.xfail(strict=True, reason=(
-        "ours (10 km/h grid): totals bending 40.7, static 42.7, state of the art 44.8 %, all "
-        "set by the wobble real part (34-38 %); " + FRONT_CAUSE))),
-    pytest.param("swingarm", marks=pytest.mark.xfail(strict=True, reason=(
-        "ours (10 km/h grid): bending 3.66 % below static 4.25 % (weave real part 1.90 vs "
-        "2.48 %). Cause, measured (tools/swingarm_hinge_causes.py): a hinge identified "
-        "with a lateral force at the axle has only C_yz^2/C_yy of the FE's yaw compliance at "
-        "the axle (static 7.4, FE 19.7 urad/(N m), test_swingarm_hinges_lack_the_fe_yaw_"
-        "compliance) and none of its roll compliance (12.0). Against the FE condensed at q0 "
-        "with only the yaw compliance the hinge lacks put back, static is off by 5.2 %, with "
-        "only the roll 2.4 %, with both 4.2 %: the two partly cancel. "
-        "The bending hinge, 16 % softer (1.13e5 vs 1.34e5 N m/rad, both axes within 3 deg "
-        "of vertical), has 8.8 of the 19.7: it misses less of the yaw compliance that damps "
-        "the high-speed weave. Not the cause: the Paralever's masses (the vehicle's bodies "
-        "are the FE's since issue 12: study unchanged to 2e-8 %), the hinge's body (hung "
-        "from the main arm instead of the wheel carrier: the same eigenvalues, the frozen "
-        "Paralever rides with the frame), bending's inertia J on the static hinge (4.29 %) "
-        "or its damping (4.39 %), the wheel carrier on the moving side (4.28 %), the FE's modes "
-        "(its Guyan condensation at q0 gives the same to 1e-4 %) or its lateral/in-plane "
-        "coupling (0.1 %)"))),
+    pytest.param("front_assembly", marks=known_deviation(
+        "front-assembly-static-hinge", "front assembly: bending 40.7 below static 42.7 %")),
+    pytest.param("swingarm", marks=known_deviation(
+        "swingarm-static-vs-bending", "swingarm: bending 3.66 % below static 4.25 %")),
 ])
 def test_published_static_lowest_error_in_every_case(verb_run, case):
     """Sect. 5.2: the static model has the lowest e_RMS (sum of the four quantities) of the
@@ -147,29 +121,37 @@ def test_published_static_lowest_error_in_every_case(verb_run, case):
     assert totals["static"] <= min(totals.values()) * (1 + TIE), (case, totals)
 
 
+@pytest.mark.regression
 def test_swingarm_hinges_lack_the_fe_yaw_compliance(identified_file):
     """The measured cause of the swingarm's xfail above. A hinge's compliance at q0 is rank
     one, s s^T / k (s its unit twist there). The static test fits it to the FE's response to
     a lateral force at the axle, so its yaw compliance is C_yz^2 / C_yy (Cauchy-Schwarz: at
     most C_zz), 0.38 of the FE's; the bending hinge, softer, has 0.45 of it. The weave loads
     the rear axle with a yaw moment too, which no such hinge carries as the FE does."""
+    fe, hinges = swingarm_hinge_compliances(json.loads(identified_file.read_text())["swingarm"])
+    hinge = hinges["static"]            # the bench's load case, within the identification
+    assert hinge[1, 1] == pytest.approx(fe[1, 1], rel=0.01)
+    assert hinge[5, 1] == pytest.approx(fe[5, 1], rel=0.01)
+    assert hinge[5, 5] == pytest.approx(fe[5, 1] ** 2 / fe[1, 1], rel=0.02)
+    for test in ("static", "bending"):     # regression: the shares our code gave (the commit
+        share = hinges[test][5, 5] / fe[5, 5]   # in test/regression_values.json)
+        assert share == expected(f"swingarm_yaw_share.{test}"), (test, share)
+
+
+def swingarm_hinge_compliances(found):
+    """The swingarm's clamped FE end compliance at q0 (6 x 6, [m/N, rad/(N m)]) and the
+    compliance s s^T / k of its static and bending hinges ``found`` (an identification.json
+    entry) there."""
     comp = load_component("swingarm")
     reduced = comp.clamped_reduced()
     fe = np.column_stack([reduced.static_end_motion(e) for e in np.eye(6)])
     site = lumped.site_of(comp)
-    found = json.loads(identified_file.read_text())["swingarm"]
-    yaw = {}
+    hinges = {}
     for test in ("static", "bending"):
         point, axis = lumped.axis_in_vehicle(site, found[test]["l"], found[test]["beta"])
         twist = np.r_[np.cross(axis, site.origin + site.q0 - point), axis]
-        hinge = np.outer(twist, twist) / found[test]["k"]
-        yaw[test] = hinge[5, 5] / fe[5, 5]
-        if test == "static":            # the bench's load case, within the identification
-            assert hinge[1, 1] == pytest.approx(fe[1, 1], rel=0.01)
-            assert hinge[5, 1] == pytest.approx(fe[5, 1], rel=0.01)
-            assert hinge[5, 5] == pytest.approx(fe[5, 1] ** 2 / fe[1, 1], rel=0.02)
-    assert yaw["static"] == pytest.approx(0.376, abs=0.01)
-    assert yaw["bending"] == pytest.approx(0.447, abs=0.01)
+        hinges[test] = np.outer(twist, twist) / found[test]["k"]
+    return fe, hinges
 
 
 def test_published_frame_identified_models_beat_the_state_of_the_art(verb_run):
@@ -183,9 +165,8 @@ def test_published_frame_identified_models_beat_the_state_of_the_art(verb_run):
         assert frame[variant]["wobble_re"] < 0.5 * sota, (variant, frame[variant], sota)
 
 
-@pytest.mark.xfail(strict=True, reason="ours (10 km/h grid): 33.3 % with all components "
-                   "flexible, set by the front assembly (34.0 % alone; frame 1.4 %, swingarm "
-                   "1.0 %); " + FRONT_CAUSE)
+@known_deviation("front-assembly-static-hinge",
+                 "all flexible: static wobble Re 33.3 %, set by the front assembly")
 def test_published_static_wobble_real_part_within_10_percent(verb_run):
     """Sect. 5.2.4: with all components flexible the static model's wobble real-part error is at
     most 10 %."""
@@ -311,26 +292,11 @@ def _compliance_ratio(component, entry, wrench=None):
     return hinge_compliance(lumped.site_of(comp), hinge, w) / (w @ end_compliance(comp) @ w)
 
 
-SWINGARM_CAUSE = (
-    "the swingarm hardly takes part in the wobble (0.000 at 100 km/h, 0.02 at 60 and 160) and "
-    "under the weave wrench the fitted hinge carries 0.16-0.22 of the FE compliance at "
-    "60-160 km/h (axis 98 deg to O-q0, 0.8 cm from q0, k 5.1e4 against static's 1.3e5). No "
-    "single hinge does both: the best hinge carrying the FE compliance under the weave wrench "
-    "(100 km/h; every axis, arms -1 to 1 m) reaches J 4.9 % (weave f 2.2, Re 4.0 %), above "
-    "2 % and static's 2.7 %, the hinge deflecting as the FE model under it (vehicle_load "
-    "from the weave) 7.7 % (weave Re 7.6 %). Not the hinge's place: the FE model's whole end "
-    "stiffness (6 x 6, massless) where the hinge is reaches 0.12 / 0.24 / 0.00 / 0.16 %. It "
-    "is the single hinge, one deflection shape for every load: the swingarm's antisymmetric "
-    "end compliance has singular values 1 : 0.60 : 0.03 (front assembly 1 : 0.05 : 0.002, "
-    "a hinge). Under the weave wrench the FE end moves 0.53 mm, camber 5.6 mrad, steer "
-    "-3.3 mrad per kN; the fitted hinge keeps the steer (-3.4) and drops the rest (-0.03 mm, "
-    "0.8 mrad)")
-
-
 @pytest.mark.parametrize("component", [
     "frame", "front_assembly",
-    pytest.param("swingarm", marks=pytest.mark.xfail(strict=True, reason="ours: "
-                                                     + SWINGARM_CAUSE))])
+    pytest.param("swingarm", marks=known_deviation(
+        "swingarm-fitted-hinge",
+        "swingarm: the fitted hinge carries 0.16-0.22 of the FE compliance in weave"))])
 def test_fitted_hinge_has_the_fe_compliance_under_the_wobble_wrench(verb_run, component):
     """The fitted hinge fits for a physical reason: under the wrench the component carries
     in the flexible motorcycle's wobble (100 km/h) its compliance w . C_h . w is within 10 %

@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+from deviations import known_deviation
 from scipy.spatial.transform import Rotation
 
 from motoflex_ros.cli.inputs import motorcycle_components
@@ -249,14 +250,7 @@ def test_tie_break_keeps_the_frames_fit_a_hinge(frame_fits):
     assert abs(objectives[0] - objectives[1]) < 0.01, objectives
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "ours (10 km/h grid): the frame's fit has no single answer. From the static hinge (143 deg) "
-    "the search ends at 40 deg, from 80 deg at 124 deg, b -0.22 m and k 6.0e5-6.1e5 N m/rad "
-    "both, J 0.359 % both on the search speeds: weave and wobble see only the head's lateral "
-    "compliance b^2 / k, and the loads the frame carries do not tell axes apart either (a "
-    "lateral force at the head in wobble and in weave, moments 1 cm x F or less). The "
-    "tie-break (J + 0.001 % per step from static) is too weak to join the two ends of the "
-    "valley, which lie on either side of the static axis (19 and 73 deg from it)"))
+@known_deviation("frame-fit-not-unique", "the frame's fit ends at 40 or 124 deg with the same J")
 def test_frames_fit_has_one_answer(frame_fits):
     """The frame's fit ends at the same axis (within 2 deg) from the static hinge and from a
     hinge elsewhere in the valley."""

@@ -30,6 +30,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from deviations import known_deviation
 
 from motoflex_ros.cli.inputs import identification_results, motorcycle_components, study_speeds
 from motoflex_ros.config import resolve_config
@@ -40,44 +41,29 @@ from motoflex_ros.study.sensitivity import run_sensitivity
 from motoflex_ros.units import kmh_to_ms
 from motoflex_ros.vehicle.model import load_vehicle
 
-pytestmark = pytest.mark.slow
-
 NOMINALS = ("identified", "table2")
 STEP_KMH, CLI_STEP_KMH = 10.0, 1.0
 INDICES = ("weave_low", "weave_high", "wobble_low", "wobble_high")
 BARELY, SLIGHTLY = 0.1, 0.5
 FRAME = {"k_tf": ("k_tf",), "k_bf": ("k_bf",), "frame": ("k_tf", "k_bf")}
 
-CAUSE = ("our wobble real part rises with speed from 50 km/h on in every run, so eq. 13's s1 "
-         "over 40-100 km/h is Re(wobble) at 100 km/h. The paper itself says this stiffness acts "
-         "oppositely at low and high speed (Sect. 4.3 after [5-8], Sect. 5.3); one at a time, "
-         "+10 % {factor} lowers Re(wobble) at 40 km/h (stabilises, the paper's direction) and "
-         "raises it at 210 km/h; the +/-10 % curves cross at {cross}, just below 100 km/h, so "
-         "the index samples the high-speed side of the crossing where the effect is near zero "
-         "and of the high-speed sign (test_bending_effect_on_wobble_reverses_below_100_kmh). "
-         "Indexed by Re at 40 or 70 km/h, or by its mean over 40-100 km/h, rho is positive "
-         "(test_bending_stiffness_stabilises_wobble_below_the_crossing).")
 XFAIL = {
     # since issue 12's front assembly (compliance in the lower fork, the stanchion joint links
     # and the stanchions; the vehicle's lower-fork inertia) the identified nominal's k_ba and
     # k_tf curves cross at 100-101 km/h, just above the index's edge: there the paper's
     # low-speed direction holds, by a hair (rho +0.004 and +0.0009), and the marks apply to
     # the table2 nominal only (STUDY_MARKS)
-    "k_ba": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-        "rho(wobble_low, k_ba) = -0.019 table2 (k_ta -1.000); "
-        + CAUSE.format(factor="k_ba", cross="98 km/h (table2)"))),
-    "k_bf": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-        "rho(wobble_low, k_bf) = -0.0017 identified, -0.0021 table2 (k_ta -1.000, -1.000); "
-        + CAUSE.format(factor="k_bf", cross="95 (identified), 94 (table2) km/h"))),
+    "k_ba": known_deviation(
+        "low-speed-wobble-sign", "rho(wobble_low, k_ba) = -0.019 table2, cross at 98 km/h"),
+    "k_bf": known_deviation(
+        "low-speed-wobble-sign", "rho(wobble_low, k_bf) = -0.0017 / -0.0021, cross at 94-95 km/h"),
     # with the paper's load path (longitudinal arm on the rear frame, issue 12) the frame's
     # torsion joins them: its +/-10 % curves cross at 99 km/h (table2)
-    "k_tf": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-        "rho(wobble_low, k_tf) = -0.0010 table2; "
-        + CAUSE.format(factor="k_tf", cross="99 km/h (table2)"))),
-    "frame": pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-        "rho(wobble_low, k_tf + k_bf) = -0.0005 identified, -0.0022 table2; "
-        + CAUSE.format(factor="k_tf and k_bf together", cross="99 (identified), 99 (table2) "
-                       "km/h"))),
+    "k_tf": known_deviation(
+        "low-speed-wobble-sign", "rho(wobble_low, k_tf) = -0.0010 table2, cross at 99 km/h"),
+    "frame": known_deviation(
+        "low-speed-wobble-sign",
+        "rho(wobble_low, k_tf + k_bf) = -0.0005 / -0.0022, cross at 99 km/h"),
 }
 XFAIL_ON = {"k_ba": ("table2",), "k_bf": NOMINALS, "k_tf": ("table2",), "frame": NOMINALS}
 """The nominals on which each expected failure holds."""

@@ -7,11 +7,10 @@ weave/wobble equal to 1e-9. For a mesh component (an L bracket of hexahedra) and
 shipped swingarm (two clamps), placed in the touring motorcycle.
 """
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
+from hostile import run_motoflex
 
 from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign, with_sensor
 from motoflex_ros.config import config_path
@@ -105,13 +104,10 @@ def test_vehicle_results_equal(round_trip):
 def test_export_from_the_command_line(tmp_path):
     """``motoflex components --component X --export DIR`` writes the superelement, and the
     exported file goes through ``components --json`` with the original's numbers."""
-    run = [sys.executable, "-m", "motoflex_ros.cli.main", "components"]
-    out = subprocess.run(run + ["--component", "tube", "--export", str(tmp_path), "--json"],
-                         capture_output=True, text=True)
+    out = run_motoflex(["components", "--component", "tube", "--export", tmp_path, "--json"])
     assert out.returncode == 0, out.stderr
     exported = tmp_path / "tube.yaml"
-    again = subprocess.run(run + ["--component", str(exported), "--json"], capture_output=True,
-                           text=True)
+    again = run_motoflex(["components", "--component", exported, "--json"])
     assert again.returncode == 0, again.stderr
     a, b = json.loads(out.stdout)["tube"], json.loads(again.stdout)["tube"]
     for key in ("k_static", "f_bending_hz", "f_torsion_hz"):

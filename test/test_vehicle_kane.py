@@ -29,7 +29,6 @@ from motoflex_ros.vehicle.linearize import linearize  # noqa: E402
 from motoflex_ros.vehicle.model import vehicle_from_dict  # noqa: E402
 from motoflex_ros.vehicle.tyre import tyre_from_config  # noqa: E402
 
-pytestmark = pytest.mark.slow
 H = 1e-30
 
 
