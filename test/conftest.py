@@ -46,7 +46,7 @@ ROS_FILES = {
     "test_campaign_launch_run.py", "test_campaign_namespaces.py", "test_docs_ros.py",
     "test_faults.py", "test_measured_live.py", "test_mesh_chain_graph.py",
     "test_node_interfaces.py", "test_replay_rate.py", "test_ros_network_nodes.py",
-    "test_ros_nodes.py", "test_run_trust.py",
+    "test_ros_nodes.py", "test_run_trust.py", "test_transport.py",
 }
 # Files whose every test is slow (a module fixture of ten seconds or more, or most tests over a
 # few seconds): the Kane oracle's symbolic derivation, the gmsh and solid-frame meshes, the
@@ -74,6 +74,7 @@ SLOW_TESTS = {
     "test_docs.py::test_getting_started_example_runs",
     "test_hostile_inputs.py::test_real_failed_replay_keeps_its_logs_beside_its_output",
     "test_report_summary.py::test_summary_names_the_outcome_handed_over_before_status_json",
+    "test_transport.py::test_campaign_on_the_plain_path_identifies_as_the_ctypes_path",
 }
 # The fault injection into running campaigns (issue 13): ./test.sh -m faults runs it alone.
 FAULT_FILES = {"test_faults.py"}

@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from motoflex_ros.bench.campaign import run_campaign, setup_campaign
+from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign
 from motoflex_ros.structures.mesh_examples import write_bracket_component
 
 

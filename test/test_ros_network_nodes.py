@@ -18,8 +18,8 @@ from test_ros_network import (
     process_sockets,
 )
 
-from motoflex_ros.launcher.dds import PROFILE_ENV, loopback_profile
 from motoflex_ros.launcher.domain import DomainLock
+from motoflex_ros.nodes.dds import PROFILE_ENV, loopback_profile
 
 
 def _node_env(domain_id, tmp_path, **extra):

@@ -13,7 +13,7 @@ from regression import expected
 from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ModelError
-from motoflex_ros.structures.component_model import load_component
+from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.study.accuracy import rms_error_percent
 from motoflex_ros.study.identified_variants import carried_inertias
 from motoflex_ros.study.lumped_accuracy import (

@@ -25,7 +25,7 @@ import numpy as np
 from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
 from motoflex_ros.inertia import composite_inertia
-from motoflex_ros.structures.component_model import load_component
+from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.study.identified_variants import GAMMA
 from motoflex_ros.study.lumped_accuracy import _weave_wobble, flexible_reference, mode_errors
 from motoflex_ros.units import kmh_to_ms
