@@ -238,13 +238,18 @@ class DesignEngine:
     n_modes: dict
     system: object
 
-    def coefficients(self, components):
-        """(E_coeffs, A_coeffs) of the motorcycle with ``components`` ({name: structures
-        Component}, any subset of the varied ones) re-reduced and in place."""
+    def superelements(self, components):
+        """{name: Superelement} of ``components`` ({name: structures Component}, any subset of
+        the varied ones), each re-reduced with its nominal number of modes."""
+        return {name: design_superelement(c, self.n_modes[name])
+                for name, c in components.items()}
+
+    def coefficients(self, superelements):
+        """(E_coeffs, A_coeffs) of the motorcycle with ``superelements`` ({name:
+        Superelement}, e.g. :meth:`superelements`) in place of the nominal ones."""
         E, A = self.E_coeffs.copy(), self.A_coeffs.copy()
-        for name, component in components.items():
-            dE, dA = self.terms[name].delta(design_superelement(component,
-                                                                self.n_modes[name]))
+        for name, element in superelements.items():
+            dE, dA = self.terms[name].delta(element)
             E += dE
             A += dA
         return E, A
