@@ -16,13 +16,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from motoflex_ros.structures.clamped import clamped_frequencies
+from motoflex_ros.structures.schema import load_component_config
 from motoflex_ros.study.design_space import (
     INDEX_NAMES,
     component_with,
     design_configs,
     members_mass,
 )
-from motoflex_ros.structures.schema import load_component_config
 from motoflex_ros.study.design_update import design_engine
 from motoflex_ros.study.motorcycle import _mode_targets
 from motoflex_ros.study.sensitivity import stability_indices

@@ -23,7 +23,14 @@ from pathlib import Path
 
 import numpy as np
 
-from motoflex_ros.config import Field, load_yaml, number, resolve_config, validate
+from motoflex_ros.config import (
+    MOTORCYCLE_COMPONENTS,
+    Field,
+    load_yaml,
+    number,
+    resolve_config,
+    validate,
+)
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.structures.beam import rectangular_tube_section, tube_section
 from motoflex_ros.structures.components import Component, damping_ratio_setting
@@ -194,9 +201,10 @@ def load_design_space(name_or_file):
     cfg = validate(load_yaml(path), _SPACE_SCHEMA, Path(path))
     variables, configs, sources, floors = [], {}, {}, {}
     for component, spec in cfg["components"].items():
-        if component not in ("frame", "front_assembly", "swingarm"):
-            raise ConfigError(source, f"components.{component}", "unknown component (allowed: "
-                                                                 "frame, front_assembly, swingarm)")
+        if component not in MOTORCYCLE_COMPONENTS:
+            raise ConfigError(source, f"components.{component}",
+                              "unknown component (allowed: "
+                              f"{', '.join(MOTORCYCLE_COMPONENTS)})")
         comp_path = resolve_config("components", spec["file"] or component)
         comp_cfg = load_component_config(comp_path)
         if comp_cfg.get("component") != component:
@@ -254,6 +262,7 @@ def members_mass(cfg):
     ...        "members": [{"from": "a", "to": "b", "section": "s", "material": "steel"}]}
     >>> round(members_mass(cfg), 6)   # 7850 kg/m^3 x (0.02^2 - 0.018^2) m^2 x 2 m
     1.1932
+
     """
     nodes = {k: np.asarray(v, float) for k, v in cfg["nodes"].items()}
     areas = {k: _area(v) for k, v in cfg["sections"].items()}
