@@ -146,10 +146,12 @@ def least_mass(problem, maxiter=40):
     return problem.x_of(result.x), result
 
 
-def pareto_front(problem, seed, pop_size=24, n_gen=10):
+def pareto_front(problem, seed, pop_size=24, n_gen=10, extra=()):
     """NSGA-II (pymoo) on (mass, -smallest stability margin) with the frequency and k floors
     as constraints: (X (points, variables) [m], pymoo Result) of the non-dominated feasible
-    designs, sorted by mass."""
+    designs, sorted by mass. The first population is uniform random (numpy generator of
+    ``seed``) with the designs ``extra`` ([m], e.g. the nominal and the least-mass design) in
+    its first rows."""
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.core.problem import Problem
     from pymoo.optimize import minimize
@@ -168,8 +170,12 @@ def pareto_front(problem, seed, pop_size=24, n_gen=10):
             if n_other:
                 out["G"] = -problem.margins(outputs)[:, n_index:]
 
-    result = minimize(_Front(), NSGA2(pop_size=pop_size), ("n_gen", n_gen), seed=int(seed),
-                      verbose=False)
+    span = problem.space.upper - problem.space.lower
+    first = np.random.default_rng(int(seed)).random((pop_size, len(span)))
+    for i, x in enumerate(list(extra)[:pop_size]):
+        first[i] = np.clip((np.asarray(x, float) - problem.space.lower) / span, 0.0, 1.0)
+    result = minimize(_Front(), NSGA2(pop_size=pop_size, sampling=first), ("n_gen", n_gen),
+                      seed=int(seed), verbose=False)
     Z = np.atleast_2d(result.X)
     order = np.argsort(np.atleast_2d(result.F)[:, 0])
     return problem.x_of(Z[order]), result

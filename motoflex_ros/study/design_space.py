@@ -22,6 +22,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 from motoflex_ros.config import (
     MOTORCYCLE_COMPONENTS,
@@ -42,7 +43,7 @@ from motoflex_ros.structures.schema import (
 )
 
 __all__ = ["INDEX_NAMES", "SECTION_KEYS", "DesignSpace", "Variable", "load_design_space",
-           "members_mass", "component_with", "design_configs"]
+           "members_mass", "component_with", "design_configs", "design_component_text"]
 
 INDEX_NAMES = ("weave_low", "weave_high", "wobble_low", "wobble_high")
 """The four stability indices of eq. (15): mode x speed range (low 40-100, high 100-210 km/h)."""
@@ -269,3 +270,19 @@ def members_mass(cfg):
     return float(sum(cfg["materials"][m["material"]]["rho"] * areas[m["section"]]
                      * np.linalg.norm(nodes[m["to"]] - nodes[m["from"]])
                      for m in cfg["members"]))
+
+
+def design_component_text(space, component, x, label):
+    """YAML text of ``component``'s beam file for the design x [m]: the nominal file as it was
+    read (the reader's own keys), with the varied section dimensions set, under a header that
+    says where it came from (``label``, e.g. 'lightest feasible design')."""
+    raw = copy.deepcopy(load_yaml(space.sources[component]))
+    changed = []
+    for variable, value in zip(space.variables, np.asarray(x, float)):
+        if variable.component == component:
+            raw["sections"][variable.section][variable.key] = float(value)
+            changed.append(f"#   {variable.section}.{variable.key}: {variable.nominal:.6g} -> "
+                           f"{float(value):.6g} m")
+    header = [f"# {component} of the {label} of `motoflex study design` (design space "
+              f"{Path(space.source).name}),", f"# from {space.sources[component]}; changed:"]
+    return "\n".join(header + changed) + "\n" + yaml.safe_dump(raw, sort_keys=False)

@@ -1,0 +1,53 @@
+"""Plots of ``motoflex study design``: the mass / stability-margin front and the stiffness
+changes of the lightest feasible design beside the paper's advice (Sect. 5.3, Fig. 10)."""
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from motoflex_ros.plots.vehicle import save_png  # noqa: E402
+
+__all__ = ["plot_design_front", "plot_stiffness_changes"]
+
+
+def plot_design_front(result, path):
+    """Structural mass [kg] against the smallest stability margin min_i (s_i - floor_i) of the
+    Pareto points, with the nominal and the lightest feasible design; returns the path."""
+    def margin(point):
+        return min(point.outputs[n] - f for n, f in result.floors.items())
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    pts = np.array([[margin(p), p.outputs["mass_kg"]] for p in result.pareto]).reshape(-1, 2)
+    ax.plot(pts[:, 0], pts[:, 1], "o", label="Pareto front (NSGA-II)")
+    ax.plot([margin(result.nominal)], [result.nominal.outputs["mass_kg"]], "ks",
+            label="nominal")
+    if result.lightest is not None:
+        ax.plot([margin(result.lightest)], [result.lightest.outputs["mass_kg"]], "r*",
+                markersize=12, label="lightest feasible (SLSQP)")
+    ax.axvline(0.0, color="grey", linewidth=0.8)
+    ax.set_xlabel("smallest stability margin min(s_i - floor_i) (eq. 15)")
+    ax.set_ylabel("structural mass of the members [kg]")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    return save_png(fig, path)
+
+
+def plot_stiffness_changes(result, path):
+    """Bars: relative change of the first torsion and bending modal stiffness of each
+    component in the lightest feasible design, labelled with the paper's advice."""
+    from motoflex_ros.study.design_study import PAPER_ADVICE
+
+    fig, ax = plt.subplots(figsize=(9, 5))
+    factors = list(result.stiffness)
+    values = [100.0 * result.stiffness[f] for f in factors]
+    ax.bar(np.arange(len(factors)), values, color=["C0" if v >= 0 else "C3" for v in values])
+    ax.set_xticks(np.arange(len(factors)), factors)
+    for i, f in enumerate(factors):
+        ax.annotate(PAPER_ADVICE[f].split(" (")[0], (i, values[i]), ha="center",
+                    va="bottom" if values[i] >= 0 else "top", fontsize=8)
+    ax.axhline(0.0, color="black", linewidth=0.8)
+    ax.set_ylabel("modal stiffness change of the lightest feasible design [%]")
+    ax.set_title("Stiffness changes against the paper's advice (Sect. 5.3, Fig. 10)")
+    ax.grid(axis="y", alpha=0.3)
+    return save_png(fig, path)
