@@ -1,7 +1,7 @@
 """``motoflex study design``: sections for weave and wobble stability at least mass (issue 26).
 
     motoflex study design [--space FILE] [--json] [--out DIR] [--plot DIR] [--seed N]
-                          [--scheduler ADDRESS|local] [--pop-size 24] [--generations 10]
+                          [--scheduler ADDRESS|local] [--pop-size 40] [--generations 10]
                           [--maxiter 40] [--step-kmh 5]
 
 Reads a design space (default: the shipped config/design/touring.yaml), evaluates designs on
@@ -43,7 +43,7 @@ def register_design(sub):
     p.add_argument("--seed", type=int, default=0, help="seed of NSGA-II (default 0)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the evaluations on Dask: a scheduler address or 'local'")
-    p.add_argument("--pop-size", type=int, default=24, help="NSGA-II population (default 24)")
+    p.add_argument("--pop-size", type=int, default=40, help="NSGA-II population (default 40)")
     p.add_argument("--generations", type=int, default=10,
                    help="NSGA-II generations (default 10)")
     p.add_argument("--maxiter", type=int, default=40, help="SLSQP iterations (default 40)")
@@ -125,8 +125,12 @@ def _print(result, stream):
     print_table(["design", "mass kg"] + list(result.floors) + ["full check"], rows, stream)
     if result.why_none:
         stream.write(result.why_none + "\n")
-    stream.write("modal stiffness change of the lightest feasible design: " + ", ".join(
-        f"{f} {100 * v:+.1f} %" for f, v in result.stiffness.items()) + "\n")
+    if result.stiffness:
+        changes = {**{f"k {c}": v for c, v in result.stiffness["k_static"].items()},
+                   **result.stiffness["modal"]}
+        stream.write("stiffness change of the lightest feasible design: " + ", ".join(
+            f"{f} {'n/a' if v is None else f'{100 * v:+.1f} %'}" for f, v in changes.items())
+            + "\n")
     stream.write(f"{result.evaluations} evaluations; " + ", ".join(
         f"{k} {v:.1f} s" for k, v in result.seconds.items()) + "\n")
 

@@ -34,20 +34,29 @@ def plot_design_front(result, path):
 
 
 def plot_stiffness_changes(result, path):
-    """Bars: relative change of the first torsion and bending modal stiffness of each
-    component in the lightest feasible design, labelled with the paper's advice."""
+    """Bars: relative change [%] of each component's static stiffness k (eq. 8) and of the
+    first torsion and bending modal stiffness (Fig. 10's factors) in the lightest feasible
+    design, each factor labelled with the paper's advice (Sect. 5.3)."""
     from motoflex_ros.study.design_study import PAPER_ADVICE
 
-    fig, ax = plt.subplots(figsize=(9, 5))
-    factors = list(result.stiffness)
-    values = [100.0 * result.stiffness[f] for f in factors]
-    ax.bar(np.arange(len(factors)), values, color=["C0" if v >= 0 else "C3" for v in values])
-    ax.set_xticks(np.arange(len(factors)), factors)
-    for i, f in enumerate(factors):
-        ax.annotate(PAPER_ADVICE[f].split(" (")[0], (i, values[i]), ha="center",
-                    va="bottom" if values[i] >= 0 else "top", fontsize=8)
-    ax.axhline(0.0, color="black", linewidth=0.8)
-    ax.set_ylabel("modal stiffness change of the lightest feasible design [%]")
-    ax.set_title("Stiffness changes against the paper's advice (Sect. 5.3, Fig. 10)")
-    ax.grid(axis="y", alpha=0.3)
+    fig, (ax_k, ax_m) = plt.subplots(1, 2, figsize=(12, 5),
+                                     gridspec_kw={"width_ratios": [1, 2]})
+    k_static = result.stiffness["k_static"]
+    values = [100.0 * v for v in k_static.values()]
+    ax_k.bar(np.arange(len(values)), values, color=["C0" if v >= 0 else "C3" for v in values])
+    ax_k.set_xticks(np.arange(len(values)), list(k_static), rotation=15)
+    ax_k.set_ylabel("change of the lightest feasible design [%]")
+    ax_k.set_title("k about the static axis (eq. 8)")
+    modal = {f: v for f, v in result.stiffness["modal"].items() if v is not None}
+    values = [100.0 * v for v in modal.values()]
+    ax_m.bar(np.arange(len(values)), values, color=["C0" if v >= 0 else "C3" for v in values])
+    ax_m.set_xticks(np.arange(len(values)), list(modal))
+    for i, f in enumerate(modal):
+        ax_m.annotate("paper: " + PAPER_ADVICE[f].split(" (")[0], (i, values[i]), ha="center",
+                      va="bottom" if values[i] >= 0 else "top", fontsize=8)
+    ax_m.set_title("first torsion / bending modal stiffness (Fig. 10 factors)")
+    for ax in (ax_k, ax_m):
+        ax.axhline(0.0, color="black", linewidth=0.8)
+        ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
     return save_png(fig, path)

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.study.design_evaluate import DesignBatch, StackedPencil
+from motoflex_ros.study.design_evaluate import STATIC_FORCE, DesignBatch, StackedPencil
 from motoflex_ros.study.design_search import DesignProblem, index_floors, least_mass, pareto_front
 from motoflex_ros.study.design_space import INDEX_NAMES, component_with, design_configs
 from motoflex_ros.study.factorial import FACTOR_DESCRIPTIONS
@@ -139,17 +139,28 @@ class FullEvaluator:
 
 
 def stiffness_changes(space, components, x):
-    """{factor: omega^2 / omega_nom^2 - 1} of the first torsion and bending modes of each
-    varied component's clamped model (factors of Fig. 10: k_tf ... k_bs)."""
+    """Relative stiffness changes of the design x [m] against the nominal components.
+
+    {"k_static": {component: k / k_nom - 1} (k about the static deformation axis, eq. 8, from
+    a 100 N lateral force), "modal": {factor: omega^2 / omega_nom^2 - 1}} with the factors of
+    Fig. 10 (k_tf ... k_bs: first torsion and first bending mode of the clamped model). A
+    modal factor is None when the design's first mode of that label is more than twice or
+    less than half the nominal's frequency: the labelling (by the loaded end's motion) moved to
+    another mode, the change is not that mode's stiffness.
+    """
     configs = design_configs(space, x)
-    out = {}
+    reduced = {c: (components[c].clamped_reduced(),
+                   component_with(cfg, space.sources[c]).clamped_reduced())
+               for c, cfg in configs.items()}
+    k_static = {c: float(new.static_lateral(STATIC_FORCE).k / old.static_lateral(STATIC_FORCE).k
+                         - 1.0) for c, (old, new) in reduced.items()}
+    modal = {}
     for factor, (component, label) in FACTOR_DESCRIPTIONS.items():
-        if component not in configs:
-            continue
-        new = component_with(configs[component], space.sources[component]).clamped_reduced()
-        old = components[component].clamped_reduced()
-        out[factor] = float((new.frequency(label) / old.frequency(label)) ** 2 - 1.0)
-    return out
+        if component in reduced:
+            old, new = reduced[component]
+            ratio = new.frequency(label) / old.frequency(label)
+            modal[factor] = float(ratio**2 - 1.0) if 0.5 <= ratio <= 2.0 else None
+    return {"k_static": k_static, "modal": modal}
 
 
 def _checked(problem, full, X, points):
