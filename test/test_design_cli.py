@@ -15,6 +15,7 @@ import pytest
 
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import resolve_config
+from motoflex_ros.report.build import build_report
 from motoflex_ros.structures import load_component
 from motoflex_ros.study.design_space import component_with, design_configs, load_design_space
 from motoflex_ros.study.variants import build_variant
@@ -45,6 +46,13 @@ def test_design_study_end_to_end(tmp_path, capsys):
     assert lightest["mass_kg"] < nominal["mass_kg"]
     assert lightest["full_check"]["meets_constraints"]
     assert all(lightest["full_check"]["indices"][n] >= floors[n] - 1e-9 for n in floors)
+    # the report gets a design section from the saved JSON, the lightest design's mass in it
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "design.json").write_text(json.dumps(doc))
+    path, _ = build_report(run, compute=False, progress=False)
+    html = path.read_text()
+    assert 'id="section-design"' in html and f"{lightest['mass_kg']:.3f}" in html
     # the files round trip: eig --use on them equals the design built in memory
     files = lightest["files"]
     args = ["eig", "--vehicle", "touring", "--speeds-kmh", "60", "150", "--json", "--flex",
@@ -65,3 +73,9 @@ def test_design_study_end_to_end(tmp_path, capsys):
     for mode in ("weave", "wobble"):
         got = np.array([complex(*pair) for pair in eig["modes"][mode]])
         np.testing.assert_allclose(got, sweep.modes[mode], rtol=1e-9)
+
+
+def test_report_without_design_study_has_no_design_section(tmp_path):
+    path, sections = build_report(tmp_path, compute=False, progress=False)
+    assert "design" not in [s.id for s in sections]
+    assert 'id="section-design"' not in path.read_text()
