@@ -254,6 +254,17 @@ def members_mass(cfg):
     """Structural mass of a beam config's members [kg]: sum of rho A L over the members
     (rigid parts not counted).
 
+    Parameters
+    ----------
+    cfg : dict
+        A beam component config (config/components/*.yaml as read): ``nodes`` [m],
+        ``materials`` (``rho`` [kg/m^3]), ``sections`` (dimensions [m]) and ``members``.
+
+    Returns
+    -------
+    float
+        The members' mass [kg].
+
     Examples
     --------
     >>> cfg = {"nodes": {"a": [0, 0, 0], "b": [2.0, 0, 0]},
