@@ -2,7 +2,7 @@
 
     motoflex study design [--space FILE] [--json] [--out DIR] [--plot DIR] [--seed N]
                           [--scheduler ADDRESS|local] [--pop-size 40] [--generations 10]
-                          [--maxiter 40] [--step-kmh 5]
+                          [--maxiter 40] [--max-points 24] [--step-kmh 5]
 
 Reads a design space (default: the shipped config/design/touring.yaml), evaluates designs on
 the flexible motorcycle with all three components as superelements (re-reduction and the exact
@@ -47,6 +47,8 @@ def register_design(sub):
     p.add_argument("--generations", type=int, default=10,
                    help="NSGA-II generations (default 10)")
     p.add_argument("--maxiter", type=int, default=40, help="SLSQP iterations (default 40)")
+    p.add_argument("--max-points", type=int, default=24,
+                   help="Pareto points reported, spread over the front (default 24)")
     p.add_argument("--step-kmh", type=float, default=5.0, help="speed step [km/h] (default 5)")
     p.set_defaults(func=run_design)
 
@@ -54,7 +56,8 @@ def register_design(sub):
 def _check_counts(args):
     for option, value, low, high in (("--pop-size", args.pop_size, 4, 1000),
                                      ("--generations", args.generations, 1, 1000),
-                                     ("--maxiter", args.maxiter, 1, 1000)):
+                                     ("--maxiter", args.maxiter, 1, 1000),
+                                     ("--max-points", args.max_points, 1, 1000)):
         if not low <= value <= high:
             raise ConfigError(_ARGS, option, f"must be in [{low}, {high}], got {value}")
 
@@ -147,7 +150,8 @@ def run_design(args):
     try:
         result = run_design_study(evaluator, full, seed=args.seed, scheduler=client,
                                   workers=workers, pop_size=args.pop_size,
-                                  n_gen=args.generations, maxiter=args.maxiter)
+                                  n_gen=args.generations, maxiter=args.maxiter,
+                                  max_points=args.max_points)
     finally:
         for thing in to_close:
             thing.close()

@@ -222,9 +222,13 @@ def run_design_study(evaluator, full, seed=0, scheduler=None, workers=1, pop_siz
                          if out["mass_kg"] < nominal_out["mass_kg"]),
                         key=lambda p: p.outputs["mass_kg"])
     candidates = [p for p in candidates if p.feasible][:3]
-    checked = _checked(problem, full, [p.x for p in front + candidates], front + candidates)
-    front, candidates = checked[:len(front)], checked[len(front):]
-    lightest = next((p for p in candidates if p.full_check["meets_constraints"]), None)
+    front = _checked(problem, full, [p.x for p in front], front)
+    lightest, tried = None, []
+    for candidate in candidates:       # the lightest first; the next only if it fails
+        tried = _checked(problem, full, [candidate.x], [candidate])
+        if tried[0].full_check["meets_constraints"]:
+            lightest = tried[0]
+            break
     why = "" if lightest else _why_none(candidates)
     clock["full_check"] = time.perf_counter()
     stiffness = stiffness_changes(space, full.components, lightest.x) if lightest else {}
