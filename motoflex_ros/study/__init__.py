@@ -4,5 +4,7 @@ stability_index (eqs. 13-15), factorial (designs), anova, correlation (eqs. 16-1
 (eq. 18), continuation (tracking modes over speed), tracked (the vehicle-to-study plug: study
 functions from state matrices or linear stiffness pencils), runner (in process or on Dask),
 sensitivity (the analysis of Sect. 5.3) and motorcycle (that study on the engine's decomposed
-lumped motorcycle). Submodules are imported explicitly; this package imports nothing heavy.
+lumped motorcycle); design_space, design_update, design_evaluate, design_search and
+design_study (``motoflex study design``: sections for stability at least mass, beyond the
+paper). Submodules are imported explicitly; this package imports nothing heavy.
 """
