@@ -53,6 +53,7 @@ def test_design_study_end_to_end(tmp_path, capsys):
     path, _ = build_report(run, compute=False, progress=False)
     html = path.read_text()
     assert 'id="section-design"' in html and f"{lightest['mass_kg']:.3f}" in html
+    assert 'id="design_front"' in html
     # the files round trip: eig --use on them equals the design built in memory
     files = lightest["files"]
     args = ["eig", "--vehicle", "touring", "--speeds-kmh", "60", "150", "--json", "--flex",

@@ -8,29 +8,38 @@ import numpy as np  # noqa: E402
 
 from motoflex_ros.plots.vehicle import save_png  # noqa: E402
 
-__all__ = ["plot_design_front", "plot_stiffness_changes"]
+__all__ = ["design_front_figure", "plot_design_front", "plot_stiffness_changes"]
 
 
-def plot_design_front(result, path):
-    """Structural mass [kg] against the smallest stability margin min_i (s_i - floor_i) of the
-    Pareto points, with the nominal and the lightest feasible design; returns the path."""
+def design_front_figure(design):
+    """Figure: structural mass [kg] against the smallest stability margin min_i (s_i -
+    floor_i) of the Pareto points, with the nominal and the lightest feasible design;
+    ``design`` is the JSON of ``motoflex study design --json`` (or its dict)."""
+    floors = design["floors"]
+
     def margin(point):
-        return min(point.outputs[n] - f for n, f in result.floors.items())
+        return min(point["indices"][n] - f for n, f in floors.items())
 
     fig, ax = plt.subplots(figsize=(7, 5))
-    pts = np.array([[margin(p), p.outputs["mass_kg"]] for p in result.pareto]).reshape(-1, 2)
+    pts = np.array([[margin(p), p["mass_kg"]] for p in design["pareto"]]).reshape(-1, 2)
     ax.plot(pts[:, 0], pts[:, 1], "o", label="Pareto front (NSGA-II)")
-    ax.plot([margin(result.nominal)], [result.nominal.outputs["mass_kg"]], "ks",
-            label="nominal")
-    if result.lightest is not None:
-        ax.plot([margin(result.lightest)], [result.lightest.outputs["mass_kg"]], "r*",
-                markersize=12, label="lightest feasible (SLSQP)")
+    nominal = design["nominal"]
+    ax.plot([margin(nominal)], [nominal["mass_kg"]], "ks", label="nominal")
+    lightest = design.get("lightest_feasible")
+    if lightest:
+        ax.plot([margin(lightest)], [lightest["mass_kg"]], "r*", markersize=12,
+                label="lightest feasible")
     ax.axvline(0.0, color="grey", linewidth=0.8)
     ax.set_xlabel("smallest stability margin min(s_i - floor_i) (eq. 15)")
     ax.set_ylabel("structural mass of the members [kg]")
     ax.grid(alpha=0.3)
     ax.legend()
-    return save_png(fig, path)
+    return fig
+
+
+def plot_design_front(result, path):
+    """Write :func:`design_front_figure` of a DesignStudyResult as PNG; returns the path."""
+    return save_png(design_front_figure(result.to_dict()), path)
 
 
 def plot_stiffness_changes(result, path):

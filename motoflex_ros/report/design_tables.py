@@ -4,7 +4,7 @@ Beyond the paper (issue 26; docs/design-study.md): the nominal design, the light
 keeps every stability index (eq. 15) at least its floor, and the Pareto front of structural
 mass against the smallest stability margin, each number linked to its place in design.json.
 """
-from motoflex_ros.report.html import Note
+from motoflex_ros.report.html import Figure, Note
 from motoflex_ros.report.tables import Cell, Table, json_cell
 
 __all__ = ["design_parts", "DESIGN_INDICES"]
@@ -38,6 +38,13 @@ def design_parts(design, file="design.json"):
                    "indices (eq. 15)", header, tuple(rows),
                    "full check: largest difference of the indices from a full re-reduction "
                    "and linearization of the flexible motorcycle.")]
+    if design.get("pareto"):   # matplotlib only when drawn, as report.build's _figures
+        from motoflex_ros.plots.design_front import design_front_figure
+        from motoflex_ros.report.figures import png_of
+        parts.append(Figure("design_front", "Structural mass of the members against the "
+                            "smallest stability margin min(s_i - floor_i) (eq. 15): the Pareto "
+                            "front, the nominal (square) and the lightest feasible design "
+                            "(star)", png_of(design_front_figure(design))))
     if design.get("why_none"):
         parts.append(Note(design["why_none"], "design-why-none"))
     lightest = design.get("lightest_feasible")
