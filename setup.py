@@ -38,6 +38,7 @@ setup(
         ("share/" + PACKAGE + "/config/components", glob("config/components/*.yaml")),
         ("share/" + PACKAGE + "/config/components/mesh", glob("config/components/mesh/*.*")),
         ("share/" + PACKAGE + "/config/vehicles", glob("config/vehicles/*.yaml")),
+        ("share/" + PACKAGE + "/config/design", glob("config/design/*.yaml")),
         ("share/" + PACKAGE + "/config/protocols", glob("config/protocols/*.yaml")),
         ("share/" + PACKAGE + "/config/nodes", glob("config/nodes/*.yaml")),
         ("share/" + PACKAGE + "/config/dds", glob("config/dds/*.xml")),
@@ -55,6 +56,8 @@ setup(
         # the engineer's own FE meshes (component: mesh): assembly and mesh formats
         "scikit-fem>=10",
         "meshio>=5.3",
+        # motoflex study design: the Pareto front of mass against stability (NSGA-II)
+        "pymoo>=0.6.1",
     ],
     extras_require={
         "ros": ROS_JAZZY_WHEELS,

@@ -43,6 +43,7 @@ from motoflex_ros.cli.inputs import (
 from motoflex_ros.cli.options import deprecated
 from motoflex_ros.cli.output import emit_json, print_table
 from motoflex_ros.cli.study_accuracy import register_accuracy
+from motoflex_ros.cli.study_design import register_design
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS, resolve_config
 from motoflex_ros.errors import ConfigError
 
@@ -92,7 +93,8 @@ def extra_ranges(args):
 
 
 # study kinds: name -> function adding its parser (the accuracy study adds its own here)
-SUBCOMMANDS = {"sensitivity": _register_sensitivity, "accuracy": register_accuracy}
+SUBCOMMANDS = {"sensitivity": _register_sensitivity, "accuracy": register_accuracy,
+               "design": register_design}
 
 
 def register(subparsers):

@@ -19,6 +19,9 @@ from motoflex_ros.vehicle.variants import variant_label
 __all__ = ["build_report", "SECTIONS", "REPORT_FILE"]
 
 REPORT_FILE = "report.html"
+OPTIONAL_SECTIONS = ("design",)
+"""Sections shown only when their data is in the run folder (``motoflex study design --json``
+saved as design.json): a run without the study has no design section, not a missing one."""
 PAPER = "Passigato et al. 2023"
 
 
@@ -89,6 +92,11 @@ def _sensitivity(data, files):
                    "indices per stiffness", _figures().fig10_figure(sensitivity))]
 
 
+def _design(data, files):
+    from motoflex_ros.report.design_tables import design_parts
+    return design_parts(data["design"], files["design"])
+
+
 def _vehicle(data, files):
     eig = data["eig"]
     vehicle = eig.get("vehicle", "touring")
@@ -119,6 +127,7 @@ SECTIONS = (
     ("fig9", "Front assembly: weave and wobble over speed (Fig. 9)", (), _fig9),
     ("sensitivity", "Sensitivity (Fig. 10)", ("sensitivity",), _sensitivity),
     ("vehicle", "Vehicle stability", ("eig",), _vehicle),
+    ("design", "Design for stability at least mass (beyond the paper)", ("design",), _design),
     ("whipple", "Whipple benchmark check", ("whipple",), _whipple),
 )
 
@@ -159,6 +168,8 @@ def build_report(folder, compute=True, progress=True, warning=None, outcome=None
     sections = [summary]
     bar = progress_bar(SECTIONS, desc="report sections", unit="section", enabled=progress)
     for spec in bar:
+        if spec[0] in OPTIONAL_SECTIONS and not all(n in run_data.data for n in spec[2]):
+            continue
         bar.set_postfix_str(spec[0])
         start = time.perf_counter()
         sections.append(_section(run_data, spec))

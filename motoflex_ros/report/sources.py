@@ -28,12 +28,15 @@ FIG9_VARIANTS = ("flexible", "state_of_the_art", "static", "torsion", "bending")
 @dataclass(frozen=True)
 class Source:
     """One verb output: name, file in the run folder, verb arguments (without --json), and
-    other file names the same JSON may have (the campaign writes identification.json)."""
+    other file names the same JSON may have (the campaign writes identification.json);
+    ``computable`` False: never run on demand (minutes of work: the design study), only read
+    when saved."""
 
     name: str
     file: str
     args: tuple
     aliases: tuple = ()
+    computable: bool = True
 
 
 SOURCES = (
@@ -48,6 +51,7 @@ SOURCES = (
                                                IDENTIFIED)),
     Source("whipple", "whipple.json", ("eig", "--vehicle", "whipple_benchmark", "--speeds-ms", "5",
                                        "10")),
+    Source("design", "design.json", ("study", "design"), computable=False),
     *(Source(f"fig9_{v}", f"eig_front_assembly_{v}.json",
              ("eig", "--vehicle", "touring", "--flex", v, "--component", "front_assembly",
               "--identified", IDENTIFIED, *SWEEP)) for v in FIG9_VARIANTS),
@@ -130,14 +134,16 @@ def _load_one(folder, source, compute, run):
     if saved:
         data, reason = _read(saved[0])
         origin = f"{saved[0].name} (saved)"
-    elif compute:
+    elif compute and source.computable:
         data, reason = _compute(folder, source)
         origin = (f"motoflex {' '.join(_arguments(folder, source.args))} --json (computed now, "
                   f"saved as {source.file})")
         if data is not None:
             _save(folder, source, data)
     else:
-        data, reason = None, f"{source.file} not in the run folder (not computed: --no-compute)"
+        why = "--no-compute" if source.computable else f"motoflex {' '.join(source.args)} " \
+            f"--json > {source.file} writes it"
+        data, reason = None, f"{source.file} not in the run folder (not computed: {why})"
         origin = None
     if data is None:
         run.missing[source.name] = reason

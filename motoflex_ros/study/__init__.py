@@ -12,5 +12,7 @@ carries in a mode), fitted and hinge_pencil (a hinge fitted to the flexible moto
 hinge_geometry, hinge_fit_problem and hinge_fit_result),
 lumped_accuracy (Sect. 5.2), flexible_sensitivity and tilt_stiffness (sensitivities of the
 flexible motorcycle), pulse_check (eigenvalues checked in the time domain), verdict (the
-least-damped point of each mode).
+least-damped point of each mode); design_space, design_update, design_evaluate,
+design_search and design_study (``motoflex study design``: sections for stability at least
+mass, beyond the paper).
 """
