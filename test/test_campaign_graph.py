@@ -85,7 +85,7 @@ def _our_processes(marker):
 
 def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.nodes.conversions import wrench_vector_from_cdr
+    from motoflex_ros.nodes.cdr import wrench_vector_from_cdr
     from motoflex_ros.study.identified_variants import carried_inertias
     bag = tmp_path / "run"
     proc = _campaign(tmp_path, "--out", str(bag), "--report", "quick")

@@ -23,7 +23,8 @@ IMPORT_TO_DEPENDENCY = {
     "meshio": "python3-meshio", "rosbags": "python3-rosbags-pip",
     "statsmodels": "pip:statsmodels", "skfem": "pip:scikit-fem", "mcap": "pip:mcap",
     "mcap_ros2": "pip:mcap-ros2-support", "rerun": "pip:rerun-sdk",
-    "rerun_cli": "pip:rerun-sdk", "distributed": None, "dask": None, "pypardiso": None,
+    "rerun_cli": "pip:rerun-sdk",
+    "pymoo": "pip:pymoo", "distributed": None, "dask": None, "pypardiso": None,
 }
 ROS_MESSAGES = re.compile(r"^(rclpy|rcl_interfaces|builtin_interfaces|\w+_msgs)$")
 
