@@ -19,8 +19,11 @@ import numpy as np  # noqa: E402
 
 from motoflex_ros.cli.inputs import motorcycle_components, study_speeds  # noqa: E402
 from motoflex_ros.config import resolve_config  # noqa: E402
+from motoflex_ros.formats.design_space_file import (  # noqa: E402
+    held_members_mass,
+    load_design_space,
+)
 from motoflex_ros.study.design_evaluate import DesignBatch, design_evaluator  # noqa: E402
-from motoflex_ros.study.design_space import load_design_space  # noqa: E402
 from motoflex_ros.study.design_study import FullEvaluator  # noqa: E402
 from motoflex_ros.study.runner import local_cluster, run_study  # noqa: E402
 from motoflex_ros.vehicle.model import load_vehicle  # noqa: E402
@@ -38,7 +41,8 @@ def main():
     vehicle = load_vehicle(resolve_config("vehicles", space.vehicle))
     components = motorcycle_components()
     speeds = study_speeds(5.0, 10.0)
-    setup, evaluator = _timed(design_evaluator, space, vehicle, components, speeds)
+    setup, evaluator = _timed(design_evaluator, space, vehicle, components, speeds,
+                              held_members_mass(space, components))
     print(f"set-up (recording linearization, nominal sweep) {setup:.2f} s")
     rng = np.random.default_rng(0)
     X = space.lower + rng.random((8, len(space.names))) * (space.upper - space.lower)

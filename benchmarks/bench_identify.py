@@ -20,13 +20,14 @@ from scipy import signal  # noqa: E402
 
 from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign  # noqa: E402
 from motoflex_ros.bench.response import lateral_state_space  # noqa: E402
+from motoflex_ros.formats.component_file import load_component  # noqa: E402
 
 COMPONENTS = ("frame", "front_assembly", "swingarm")
 
 
 def campaign(component):
     start = time.perf_counter()
-    setup = setup_campaign(component)
+    setup = setup_campaign(load_component(component))
     built = time.perf_counter()
     run = run_campaign(setup, trace=True)
     done = time.perf_counter()

@@ -26,9 +26,9 @@ import numpy as np
 import scipy.sparse.linalg as spla
 import yaml
 
-from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.formats.component_file import load_component
+from motoflex_ros.formats.mesh_examples import box_mesh, write_mesh
 from motoflex_ros.structures.craig_bampton import craig_bampton, interior_blocks
-from motoflex_ros.structures.mesh_examples import box_mesh, write_mesh
 from motoflex_ros.structures.sparse_solver import default_threads, factorize_spd
 
 NODES_PER_CELL = {"tetra": 1.0, "tetra10": 8.0, "hexahedron": 1.0, "hexahedron20": 4.0,

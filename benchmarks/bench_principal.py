@@ -25,6 +25,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign  # noqa: E402
 from motoflex_ros.bench.plan import plan_campaign  # noqa: E402
+from motoflex_ros.formats.component_file import load_components  # noqa: E402
 from motoflex_ros.study.identified_variants import carried_inertias  # noqa: E402
 
 COMPONENTS = ("frame", "front_assembly", "swingarm")
@@ -69,7 +70,8 @@ def main():
     parser.add_argument("--campaign", metavar="NAME",
                         help="also time the ROS graph's campaign of this component")
     args = parser.parse_args()
-    components, carried = carried_inertias(list(COMPONENTS))
+    components = load_components(list(COMPONENTS))
+    carried = carried_inertias(components)
     totals = {"with": [0.0, 0], "without": [0.0, 0]}
     print(f"{'component':15s} {'samples +/-':>14s} {'time with [s]':>14s} "
           f"{'without [s]':>12s} {'ratio':>6s}")

@@ -117,10 +117,11 @@ def _cpu_seconds(pid):
 
 def _campaign(tmp):
     from motoflex_ros.bench.offline_campaign import identify_components
+    from motoflex_ros.formats.component_file import load_components
     from motoflex_ros.launcher.campaign_graph import run_campaign_graph
     components = ["frame", "front_assembly", "swingarm"]
     start = time.perf_counter()
-    identify_components(components, seed=0)
+    identify_components(load_components(components), seed=0)
     offline = time.perf_counter() - start
     start = time.perf_counter()
     outcome = run_campaign_graph(components, Path(tmp) / "campaign", seed=0)

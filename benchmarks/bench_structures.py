@@ -12,8 +12,8 @@ import time
 import numpy as np
 import scipy.sparse.linalg as spla
 
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.structures.beam import Material
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.component_model import tube_component
 from motoflex_ros.structures.craig_bampton import craig_bampton
 

@@ -78,7 +78,7 @@ def bench_rigid(vehicle, repeats):
 
 def fe_identification():
     """Axes from the components' FE mode shapes, k_t and k_b from the paper's Table 2."""
-    from motoflex_ros.structures.component_loader import load_component
+    from motoflex_ros.formats.component_file import load_component
 
     components = {name: load_component(name) for name in COMPONENTS}
     identified = {}

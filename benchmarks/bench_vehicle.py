@@ -65,7 +65,7 @@ def bench(name, model):
 def flexible_touring(variant="flexible"):
     """The touring motorcycle with all three components flexible: ``variant`` 'flexible' (one
     clamped superelement each) or 'flexible_bodies' (per-body superelements, issue 12)."""
-    from motoflex_ros.structures.component_loader import load_component
+    from motoflex_ros.formats.component_file import load_component
     from motoflex_ros.study.identified_variants import build_variant
     from motoflex_ros.vehicle.lumped import COMPONENTS
 
@@ -76,12 +76,12 @@ def flexible_touring(variant="flexible"):
 
 def bench_accuracy_study():
     from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.structures.component_loader import load_component
+    from motoflex_ros.formats.component_file import load_component, load_components
     from motoflex_ros.study.lumped_accuracy import accuracy_study
     from motoflex_ros.vehicle.lumped import COMPONENTS
 
     start = time.perf_counter()
-    runs = identify_components(list(COMPONENTS))
+    runs = identify_components(load_components(list(COMPONENTS)))
     identified = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
     t_ident = time.perf_counter() - start
     components = {name: load_component(name) for name in COMPONENTS}

@@ -248,7 +248,7 @@ def _mesh_texts():
     import meshio
     import numpy as np
 
-    from motoflex_ros.structures.mesh_examples import box_mesh, write_mesh
+    from motoflex_ros.formats.mesh_examples import box_mesh, write_mesh
     points, cells = box_mesh(0.2, 0.02, 0.02, (4, 1, 1), "tetra")
     x, y, z = points.T
     clamp, tip = np.flatnonzero(np.isclose(x, 0)), np.flatnonzero(np.isclose(x, 0.2))

@@ -9,6 +9,7 @@ import yaml
 from motoflex_ros.bench.actuator import LoadActuator, LoadSample
 from motoflex_ros.bench.offline_campaign import make_stages, run_campaign, setup_campaign
 from motoflex_ros.cli.main import main
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.identify.identifier import Identifier
 from motoflex_ros.identify.results import identify_component
 from motoflex_ros.spatial import rotation_from_vector
@@ -16,7 +17,7 @@ from motoflex_ros.spatial import rotation_from_vector
 
 @pytest.fixture(scope="module")
 def swingarm():
-    return setup_campaign("swingarm")
+    return setup_campaign(load_component("swingarm"))
 
 
 def test_same_seed_same_numbers_other_seed_other_numbers(swingarm):
@@ -65,7 +66,7 @@ def test_replay_of_measured_markers_gives_same_result_roundtrip(swingarm):
 def test_campaign_sample_count_is_modest(component):
     """Every sample becomes ROS messages: the default campaign stays below 6000 samples per
     component, and below 9000 even if no harmonic test settled early (the plan's maximum)."""
-    setup = setup_campaign(component)
+    setup = setup_campaign(load_component(component))
     actuator = LoadActuator(setup.plan)
     assert sum(1 for _ in iter(actuator.next_sample, None)) <= 9000
     assert run_campaign(setup).n_samples <= 6000

@@ -79,7 +79,7 @@ def test_first_order_hold_on_sine_aliases_analytic():
 
 def test_steady_state_matches_frequency_response_roundtrip():
     """Time stepping of the tube until steady = the frequency-domain peak pose."""
-    from motoflex_ros.structures.component_loader import load_component
+    from motoflex_ros.formats.component_file import load_component
     reduced = load_component("tube").clamped_reduced()
     freq = 40.0
     w, dt = 2 * np.pi * freq, 1 / (8 * freq)

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from motoflex_ros.config import config_path
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.structures.bodies import body_mass_properties, split_bodies
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.superelement import follower_masks

@@ -29,6 +29,7 @@ from motoflex_ros.record import mcap_bag  # noqa: E402
 
 def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
     from motoflex_ros.bench.offline_campaign import identify_components
+    from motoflex_ros.formats.component_file import load_components
     from motoflex_ros.study.identified_variants import carried_inertias
     with DomainLock() as free:
         domain = free.domain_id
@@ -42,7 +43,8 @@ def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
              "none"], env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
             preexec_fn=interruptible) for ns in ("rig_a", "rig_b")}
         outputs = {ns: proc.communicate(timeout=900) for ns, proc in runs.items()}
-    components, carried = carried_inertias([COMPONENT])   # as the graph's (issue 22)
+    components = load_components([COMPONENT])   # as the graph's (issue 22)
+    carried = carried_inertias(components)
     offline = {n: to_jsonable(r.identification.to_dict())
                for n, (_, r) in identify_components(components, seed=0,
                                                     carried=carried).items()}

@@ -14,7 +14,7 @@ import scipy.io
 
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import config_path
-from motoflex_ros.structures import load_component
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle

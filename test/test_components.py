@@ -14,7 +14,7 @@ from hostile import run_motoflex
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.structures import load_component
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.structures.component_summary import summarize
 from motoflex_ros.structures.paper_tables import (
     paper_table1_eigenfrequencies,

@@ -11,7 +11,7 @@ import pytest
 
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
-from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.structures.component_summary import REDUCED_TOLERANCE, summarize
 
 # config/components/tube.yaml

@@ -94,7 +94,7 @@ def component_error(tmp_path, edit):
     import yaml
 
     from motoflex_ros.config import load_yaml
-    from motoflex_ros.structures.component_loader import load_component
+    from motoflex_ros.formats.component_file import load_component
     data = load_yaml(config_path("components", "swingarm"))
     edit(data)
     path = tmp_path / "bad_component.yaml"

@@ -6,7 +6,7 @@ import scipy.sparse.linalg as spla
 from deviations import known_deviation
 
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
-from motoflex_ros.structures import load_component
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.structures.beam import Material
 from motoflex_ros.structures.component_model import tube_component
 from motoflex_ros.structures.craig_bampton import craig_bampton

@@ -11,8 +11,8 @@ import scipy.linalg as sla
 import yaml
 
 from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.structures.clamped import eigenspaces, modal_damping_matrix
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.craig_bampton import checked_damping_ratio
 
 TUBE = {"component": "tube",

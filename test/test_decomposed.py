@@ -14,7 +14,7 @@ from deviations import known_deviation
 
 from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
-from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.formats.component_file import load_component, load_components
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.lumped import COMPONENTS
@@ -26,7 +26,7 @@ SPEEDS = np.arange(40.0, 211.0, 10.0) / 3.6
 
 @pytest.fixture(scope="module")
 def setup():
-    runs = identify_components(list(COMPONENTS))
+    runs = identify_components(load_components(list(COMPONENTS)))
     identified = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
     components = {name: load_component(name) for name in COMPONENTS}
     return load_vehicle(config_path("vehicles", "touring")), components, identified

@@ -15,9 +15,10 @@ import pytest
 
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import resolve_config
+from motoflex_ros.formats.component_file import load_component
+from motoflex_ros.formats.design_space_file import load_design_space
 from motoflex_ros.report.build import build_report
-from motoflex_ros.structures import load_component
-from motoflex_ros.study.design_space import component_with, design_configs, load_design_space
+from motoflex_ros.study.design_space import component_with, design_configs
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle

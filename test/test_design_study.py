@@ -19,16 +19,15 @@ import yaml
 from motoflex_ros.cli.inputs import study_speeds
 from motoflex_ros.config import config_path, resolve_config
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.structures import load_component
+from motoflex_ros.formats.component_file import load_component
+from motoflex_ros.formats.design_space_file import (
+    design_component_text,
+    held_members_mass,
+    load_design_space,
+)
 from motoflex_ros.study.design_evaluate import DesignBatch, design_evaluator
 from motoflex_ros.study.design_search import DesignProblem, index_floors, least_mass
-from motoflex_ros.study.design_space import (
-    component_with,
-    design_component_text,
-    design_configs,
-    load_design_space,
-    members_mass,
-)
+from motoflex_ros.study.design_space import component_with, design_configs, members_mass
 from motoflex_ros.study.design_update import design_superelement
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.dynamics import build_system
@@ -46,7 +45,8 @@ def space():
 def setup(space):
     vehicle = load_vehicle(resolve_config("vehicles", "touring"))
     components = {n: load_component(n) for n in lumped.COMPONENTS}
-    evaluator = design_evaluator(space, vehicle, components, study_speeds(5.0, 10.0))
+    evaluator = design_evaluator(space, vehicle, components, study_speeds(5.0, 10.0),
+                                 held_members_mass(space, components))
     return space, vehicle, components, evaluator
 
 

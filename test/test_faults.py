@@ -371,6 +371,7 @@ def test_two_runs_in_one_domain(tmp_path):
 
     from motoflex_ros.bench.offline_campaign import identify_components
     from motoflex_ros.cli.output import to_jsonable
+    from motoflex_ros.formats.component_file import load_components
     from motoflex_ros.study.identified_variants import carried_inertias
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()
@@ -388,7 +389,8 @@ def test_two_runs_in_one_domain(tmp_path):
         assert "foreign publisher on " in err, err
         assert not (first.bag / "identification.json").exists()
     else:
-        components, carried = carried_inertias([COMPONENT])
+        components = load_components([COMPONENT])
+        carried = carried_inertias(components)
         offline = {n: to_jsonable(r.identification.to_dict())
                    for n, (_, r) in identify_components(components, seed=0,
                                                         carried=carried).items()}

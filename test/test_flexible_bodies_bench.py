@@ -33,11 +33,11 @@ import scipy.linalg as sla
 
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.errors import ModelError
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.spatial import skew
 from motoflex_ros.structures.assembly import Structure, rigid_body_mass
 from motoflex_ros.structures.beam import Material, tube_section
 from motoflex_ros.structures.bodies import assemble_bodies, reduce_bodies
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.component_model import Component
 from motoflex_ros.vehicle.dynamics import build_system
 from motoflex_ros.vehicle.flexible_bodies import (

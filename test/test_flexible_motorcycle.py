@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from motoflex_ros.config import config_path
-from motoflex_ros.structures import load_component
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.dynamics import build_system
 from motoflex_ros.vehicle.flexible_motorcycle import PER_BODY, per_body_vehicle
@@ -105,7 +105,7 @@ def test_rigid_limit(vehicle, components):
 
 def test_a_component_without_bodies_enters_as_one_superelement(vehicle, components,
                                                                  tmp_path):
-    from motoflex_ros.structures.superelement_file import export_superelement
+    from motoflex_ros.formats.superelement_file import export_superelement
     path = export_superelement(components["frame"], tmp_path)
     imported = {**components, "frame": load_component(str(path))}
     ours = _modes(build_variant(vehicle, "flexible_bodies", ["frame"], {}, imported))

@@ -18,7 +18,7 @@ import pytest
 import yaml
 
 from motoflex_ros.config import config_path, load_yaml
-from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.model import load_vehicle
 

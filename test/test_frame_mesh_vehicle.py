@@ -18,7 +18,7 @@ import pytest
 from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import config_path
-from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.formats.component_file import load_component, load_components
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
@@ -60,7 +60,8 @@ def test_the_static_hinge_is_the_mesh_frames(study, mesh_frame):
     core = runs["frame"][1].identification.to_dict()["static"]
     for key in ("l", "beta", "k"):
         assert static[key] == pytest.approx(core[key], rel=1e-9), key
-    shipped = identify_components(["frame"], seed=0)["frame"][1].identification.to_dict()
+    shipped = identify_components(load_components(["frame"]),
+                                  seed=0)["frame"][1].identification.to_dict()
     assert abs(static["k"] / shipped["static"]["k"] - 1.0) > 0.1
 
 

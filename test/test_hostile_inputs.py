@@ -22,12 +22,12 @@ from scipy.io import mmread, mmwrite
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError, MotoflexError
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.formats.measured_csv import read_csv
+from motoflex_ros.formats.superelement_file import export_superelement
 from motoflex_ros.identify.measurements import MeasurementError
 from motoflex_ros.launcher.status import IncompleteRun, require_complete
 from motoflex_ros.report.provenance_section import NOT_RECORDED, provenance_table
-from motoflex_ros.structures.component_loader import load_component
-from motoflex_ros.structures.superelement_file import export_superelement
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 
@@ -364,7 +364,7 @@ def test_times_of_the_unix_epoch_are_kept(tmp_path, rig):
 
 def test_values_are_printed_with_their_digits(tmp_path, capsys):
     """Poisson's ratio 0.49999999 was reported as "value 0.5" against the limit 0.499."""
-    from motoflex_ros.structures.mesh_examples import write_bracket_component
+    from motoflex_ros.formats.mesh_examples import write_bracket_component
     path = write_bracket_component(tmp_path, size=0.05)
     path.write_text(path.read_text().replace("nu: 0.33", "nu: 0.49999999"))
     err = refused(["components", "--component", path], capsys, path, "material.nu",
@@ -509,7 +509,7 @@ def test_own_hostile_files(tmp_path, capsys, rig, case):
 def test_inputs_that_would_block(tmp_path, rig, superelement, kind):
     """Read in a child: a FIFO or a device opened for reading would block or never end."""
     if kind.endswith("mesh file"):
-        from motoflex_ros.structures.mesh_examples import write_bracket_component
+        from motoflex_ros.formats.mesh_examples import write_bracket_component
         path = write_bracket_component(tmp_path, size=0.05)
         (tmp_path / "bracket.msh").unlink()
         os.mkfifo(tmp_path / "bracket.msh")

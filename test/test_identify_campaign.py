@@ -7,6 +7,7 @@ import pytest
 
 from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign, with_sensor
 from motoflex_ros.bench.response import harmonic_peak_motion
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.identify.decay import match_pole
 from motoflex_ros.identify.peaks import axis_of_pose, unwrap_angle
 
@@ -17,9 +18,9 @@ COMPONENTS = ("frame", "front_assembly", "swingarm", "mesh_bracket")
 def exact_campaign(request, tmp_path_factory):
     component = request.param
     if component == "mesh_bracket":
-        from motoflex_ros.structures.mesh_examples import write_bracket_component
+        from motoflex_ros.formats.mesh_examples import write_bracket_component
         component = str(write_bracket_component(tmp_path_factory.mktemp("bracket")))
-    setup = with_sensor(setup_campaign(component), noise_m=0.0, resolution_m=0.0)
+    setup = with_sensor(setup_campaign(load_component(component)), noise_m=0.0, resolution_m=0.0)
     return setup, run_campaign(setup)
 
 

@@ -21,6 +21,7 @@ from motoflex_ros.bench.offline_campaign import (
     with_sensor,
 )
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.identify.decay import match_pole
 
 SEEDS = 12
@@ -39,7 +40,7 @@ WEAK_MODE = {
 @cache
 def decay_motion(component):
     """The decay-only setup, its load samples and the true loaded-end motion (no noise)."""
-    setup = only_tests(setup_campaign(component), ("decay",))
+    setup = only_tests(setup_campaign(load_component(component)), ("decay",))
     exact = run_campaign(with_sensor(setup, noise_m=0.0, resolution_m=0.0), trace=True)
     samples = list(iter(LoadActuator(setup.plan).next_sample, None))
     return setup, samples, exact.trace["motion"]

@@ -16,6 +16,7 @@ from motoflex_ros.bench.offline_campaign import (
     with_sensor,
 )
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.identify.results import static_model
 
 REPETITIONS = 50
@@ -28,7 +29,7 @@ def replay_static(setup, samples, motions, seed):
 
 @pytest.mark.parametrize("component", MOTORCYCLE_COMPONENTS)
 def test_static_noise_within_one_percent_and_interval_covers(component):
-    setup = only_tests(setup_campaign(component), ("static",))
+    setup = only_tests(setup_campaign(load_component(component)), ("static",))
     assert setup.protocol.sensor.noise_m == pytest.approx(5e-6)
     exact_setup = with_sensor(setup, noise_m=0.0, resolution_m=0.0)
     exact_run = run_campaign(exact_setup, trace=True)
@@ -50,7 +51,7 @@ def test_static_noise_within_one_percent_and_interval_covers(component):
 
 def test_noisy_interval_width_scales_with_noise():
     """Halving the noise halves the interval (linear propagation of the scatter)."""
-    setup = only_tests(setup_campaign("swingarm"), ("static",))
+    setup = only_tests(setup_campaign(load_component("swingarm")), ("static",))
     widths = []
     for noise in (5e-6, 2.5e-6):
         run = run_campaign(with_sensor(setup, noise_m=noise, resolution_m=0.0), seed=3)
@@ -66,7 +67,7 @@ def test_free_decay_with_noise_within_one_percent_of_eigenvalue(component):
     a few percent of the decay's amplitude only, e.g. the frame's bending mode 6 %, beside
     aliased higher modes; it is checked without noise in test_identify_campaign.)"""
     from motoflex_ros.identify.decay import match_pole
-    setup = only_tests(setup_campaign(component), ("decay",))
+    setup = only_tests(setup_campaign(load_component(component)), ("decay",))
     first = setup.modes.first_lateral()
     for seed in range(3):
         pole = match_pole(list(run_campaign(setup, seed=seed).readings["decay"].poles),

@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 
 from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign, with_sensor
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.identify.peaks import unwrap_angle
 from motoflex_ros.lumped_stiffness.axis import deformation_axis
 
@@ -26,7 +27,7 @@ def test_axis_segment_roundtrip():
 
 def test_plot_component_axes_writes_png(tmp_path):
     from motoflex_ros.plots.axes import plot_component_axes
-    setup = with_sensor(setup_campaign("swingarm"), noise_m=0.0, resolution_m=0.0)
+    setup = with_sensor(setup_campaign(load_component("swingarm")), noise_m=0.0, resolution_m=0.0)
     result = run_campaign(setup).identification.to_dict()
     path = plot_component_axes(setup.component, result, tmp_path / "swingarm_axes.png")
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -38,9 +39,11 @@ def test_principal_axes_drawn_beside_the_papers():
     import matplotlib.pyplot as plt
 
     from motoflex_ros.bench.offline_campaign import identify_components
+    from motoflex_ros.formats.component_file import load_components
     from motoflex_ros.plots.axes import axes_figure, axis_segment_xz, drawn_axes
     from motoflex_ros.study.identified_variants import carried_inertias
-    components, carried = carried_inertias(["swingarm"])
+    components = load_components(["swingarm"])
+    carried = carried_inertias(components)
     setup, run = identify_components(components, noise_m=0.0, carried=carried)["swingarm"]
     result = run.identification.to_dict()
     drawn = drawn_axes(result)

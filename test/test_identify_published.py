@@ -12,6 +12,7 @@ import pytest
 from deviations import known_deviation
 
 from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign
+from motoflex_ros.formats.component_file import load_component
 
 PAPER_TABLE2 = {"frame": {"k": 1.03e6, "k_t": 3.75e5, "k_b": 3.59e6},
                 "front_assembly": {"k": 1.06e4, "k_t": 5.95e3, "k_b": 1.71e5},
@@ -20,7 +21,7 @@ PAPER_TABLE2 = {"frame": {"k": 1.03e6, "k_t": 3.75e5, "k_b": 3.59e6},
 
 @functools.cache
 def identified(component):
-    result = run_campaign(setup_campaign(component), seed=0).identification
+    result = run_campaign(setup_campaign(load_component(component)), seed=0).identification
     return {"k": result.static["k"], **result.split.values}
 
 

@@ -18,6 +18,7 @@ from motoflex_ros.bench.offline_campaign import only_tests, run_campaign, setup_
 from motoflex_ros.cli.identify import _table
 from motoflex_ros.cli.output import emit_json, to_jsonable
 from motoflex_ros.config import config_path
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.formats.json_yaml import write_results
 from motoflex_ros.identify.uncertainty import interval, mean_and_covariance
 from motoflex_ros.report.tables import identification_table, table2
@@ -34,7 +35,8 @@ def campaign(tmp_path, max_periods):
     data["harmonic"]["max_periods"] = max_periods
     path = tmp_path / f"protocol_{max_periods}.yaml"
     path.write_text(yaml.safe_dump(data))
-    setup = only_tests(setup_campaign("tube", str(path)), ("static", "torsion", "bending"))
+    setup = only_tests(setup_campaign(load_component("tube"), str(path)),
+                       ("static", "torsion", "bending"))
     return run_campaign(setup).identification
 
 

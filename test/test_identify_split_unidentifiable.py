@@ -16,6 +16,7 @@ from motoflex_ros.bench.offline_campaign import only_tests, run_campaign, setup_
 from motoflex_ros.cli.main import main
 from motoflex_ros.cli.output import to_jsonable
 from motoflex_ros.errors import ModelError
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.identify.results import ResultsFile
 from motoflex_ros.lumped_stiffness.decomposition import decompose_stiffness, split_problem
 from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL
@@ -25,7 +26,7 @@ from motoflex_ros.study.motorcycle import nominal_stiffness, with_stiffness
 
 @pytest.fixture(scope="module")
 def tube():
-    setup = only_tests(setup_campaign("tube"), ("static", "torsion", "bending"))
+    setup = only_tests(setup_campaign(load_component("tube")), ("static", "torsion", "bending"))
     return run_campaign(setup).identification
 
 

@@ -17,6 +17,7 @@ from motoflex_ros.bench.offline_campaign import (
     setup_campaign,
     with_sensor,
 )
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.identify.results import static_model
 
 TUBE = {"length": 0.6, "outer_diameter": 0.04, "wall_thickness": 0.002}
@@ -48,8 +49,9 @@ def tube_file(tmp_path, pitch_deg):
 
 @pytest.mark.parametrize("pitch_deg", [0.0, 30.0, -45.0, 90.0, -80.0])
 def test_tube_static_axis_analytic(tmp_path, pitch_deg):
-    setup = with_sensor(only_tests(setup_campaign(tube_file(tmp_path, pitch_deg)), ("static",)),
-                        noise_m=0.0, resolution_m=0.0)
+    tube = load_component(tube_file(tmp_path, pitch_deg))
+    setup = with_sensor(only_tests(setup_campaign(tube), ("static",)), noise_m=0.0,
+                        resolution_m=0.0)
     run = run_campaign(setup)
     model, _ = static_model(run.readings["static"], setup.reduced.q0)
     l_ref, b_ref, k_ref, k_euler = timoshenko_cantilever(setup.protocol.static.force_n)

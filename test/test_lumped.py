@@ -13,9 +13,9 @@ from hostile import run_motoflex
 
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.identify.principal import principal_hinges
 from motoflex_ros.lumped_stiffness.axis import axis_stiffness
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.study import identified_variants
 from motoflex_ros.study.identified_variants import build_variant, carried_by_component
 from motoflex_ros.vehicle import lumped

@@ -18,8 +18,8 @@ import pytest
 import yaml
 from measured_cases import bench_yaml, hinge_record, verb_script
 
+from motoflex_ros.formats.bench_file import load_bench
 from motoflex_ros.formats.measured_csv import read_csv, write_csv
-from motoflex_ros.identify.bench_file import load_bench
 from motoflex_ros.identify.measured import identify_measured
 from motoflex_ros.record.measured_bag import POINT, POSE, POSE_ARRAY, read_bag, write_bag
 
@@ -113,7 +113,7 @@ def test_emulated_rig_bag_without_the_fe_model(tmp_path):
     """bags/example's frame through the measured mode, the structures package blocked."""
     virtual = json.loads((EXAMPLE / "identification.json").read_text())["frame"]
     from motoflex_ros.bench.sensor import DEFAULT_MARKERS
-    from motoflex_ros.structures.component_loader import load_component  # here, not in the child
+    from motoflex_ros.formats.component_file import load_component  # here, not in the child
     q0 = load_component("frame").clamped_reduced().q0.tolist()
     (tmp_path / "bench.yaml").write_text(yaml.safe_dump({
         "bench": "frame", "loaded_end": [float(v) for v in q0],

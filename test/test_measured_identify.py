@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 from measured_cases import PLATE, bench_yaml, cantilever_record, compliance_record, hinge_record
 
+from motoflex_ros.formats.bench_file import load_bench
 from motoflex_ros.formats.json_yaml import to_jsonable
 from motoflex_ros.formats.measured_csv import read_csv, write_csv
-from motoflex_ros.identify.bench_file import load_bench
 from motoflex_ros.identify.measured import identify_measured
 
 KEYS = ("l", "beta", "b", "k")
@@ -128,10 +128,12 @@ def virtual(request, tmp_path_factory):
 
     from motoflex_ros.bench.export import bench_of, campaign_measurements
     from motoflex_ros.bench.offline_campaign import setup_campaign
+    from motoflex_ros.formats.component_file import load_components
     from motoflex_ros.formats.measured_csv import write_measured_csv
     from motoflex_ros.study.identified_variants import carried_inertias
     folder = tmp_path_factory.mktemp(request.param)
-    components, carried = carried_inertias([request.param])
+    components = load_components([request.param])
+    carried = carried_inertias(components)
     measurements = campaign_measurements(setup_campaign(components[0],
                                                         carried=carried[request.param]))
     write_measured_csv(folder / "bench.csv", measurements)

@@ -24,8 +24,8 @@ pytest.importorskip("rclpy")
 
 from measured_cases import bench_yaml, hinge_record  # noqa: E402
 
+from motoflex_ros.formats.bench_file import load_bench  # noqa: E402
 from motoflex_ros.formats.measured_csv import read_csv, write_csv  # noqa: E402
-from motoflex_ros.identify.bench_file import load_bench  # noqa: E402
 from motoflex_ros.identify.measured import identify_measured  # noqa: E402
 from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
 from motoflex_ros.launcher.graph import ros_env  # noqa: E402

@@ -3,7 +3,7 @@
 --json output of the same shape as a beam component's, and the identified static k against the
 finite-element model's own static compliance.
 
-The component is an aluminium L bracket (motoflex_ros.structures.mesh_examples): a lateral
+The component is an aluminium L bracket (motoflex_ros.formats.mesh_examples): a lateral
 force at the foot of its leg bends and twists the arm, as on a single-sided swingarm, so the
 torsion (318 Hz) and bending (87 Hz) tests and the split of eq. 12 all have something to find.
 """
@@ -16,11 +16,11 @@ from hostile import run_motoflex
 from regression import expected
 
 from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign
+from motoflex_ros.formats.component_file import load_component
+from motoflex_ros.formats.mesh_examples import write_bracket_component
 from motoflex_ros.lumped_stiffness.axis import axis_stiffness, deformation_axis
 from motoflex_ros.structures.clamped import end_pose
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.full_model import full_clamped_matrices
-from motoflex_ros.structures.mesh_examples import write_bracket_component
 
 
 def run_cli(*args):
@@ -73,7 +73,7 @@ def test_identify_json_end_to_end_against_fe_compliance(bracket):
     assert set(mesh) == set(beam)
     for test in ("static", "torsion", "bending"):
         assert keys(mesh[test]) == keys(beam[test]), test
-    force = setup_campaign(bracket).protocol.static.force_n
+    force = setup_campaign(load_component(bracket)).protocol.static.force_n
     l, beta, b, k = fe_static(bracket, force)
     static = mesh["static"]
     assert static["l"] == pytest.approx(l, rel=1e-3)
@@ -89,7 +89,7 @@ def test_identify_json_end_to_end_against_fe_compliance(bracket):
 def test_identify_with_sensor_noise(bracket):
     """With the shipped 5 um sensor noise (seed 0) the identified k is within 1 % of the FE
     model's static stiffness and its 95 % interval holds it."""
-    setup = setup_campaign(bracket)
+    setup = setup_campaign(load_component(bracket))
     run = run_campaign(setup, seed=0)
     static = run.identification.to_dict()["static"]
     k = fe_static(bracket, setup.protocol.static.force_n)[3]

@@ -7,7 +7,8 @@ import sys
 import pytest
 
 from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign
-from motoflex_ros.structures.mesh_examples import write_bracket_component
+from motoflex_ros.formats.component_file import load_component
+from motoflex_ros.formats.mesh_examples import write_bracket_component
 
 
 def run_cli(*args):
@@ -33,7 +34,8 @@ def test_campaign_graph_runs_a_mesh_file_and_draws_it(bracket, tmp_path):
     bag = tmp_path / "run"
     out = json.loads(run_cli("campaign", "--component", bracket, "--report", "quick",
                              "--out", str(bag), "--json"))
-    offline = run_campaign(setup_campaign(bracket), seed=0).identification.to_dict()
+    offline = run_campaign(setup_campaign(load_component(bracket)),
+                           seed=0).identification.to_dict()
     assert out["bracket"]["static"]["k"] == pytest.approx(offline["static"]["k"], rel=1e-9)
     assert out["bracket"]["k_t"] == pytest.approx(offline["k_t"], rel=1e-9)
     assert json.loads((bag / "component_files.json").read_text()) == {"bracket": bracket}

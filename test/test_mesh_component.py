@@ -1,7 +1,7 @@
 """Solid mesh components (issue 15) against closed form, scikit-fem and the beam component.
 
 Meshes are made here (scikit-fem's structured constructors, mapped onto a tube for curved
-quadratic elements: motoflex_ros.structures.mesh_examples) and written with meshio in each
+quadratic elements: motoflex_ros.formats.mesh_examples) and written with meshio in each
 supported format, so the reader is exercised. Closed form: the shear-deformable (Timoshenko)
 cantilever, kappa after Cowper (1966), J. Appl. Mech. 33, 335-340, as in test_identify_tube.py;
 the Euler-Bernoulli cantilever's first bending frequency (1.8751^2 / (2 pi)) sqrt(E I /
@@ -13,11 +13,11 @@ import pytest
 import scipy.sparse.linalg as spla
 import yaml
 
+from motoflex_ros.formats.component_file import load_component
+from motoflex_ros.formats.mesh_examples import box_mesh, tube_mesh, write_mesh
 from motoflex_ros.structures.beam import Material
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.component_model import tube_component
 from motoflex_ros.structures.full_model import full_clamped_matrices, full_clamped_modes
-from motoflex_ros.structures.mesh_examples import box_mesh, tube_mesh, write_mesh
 from motoflex_ros.structures.solid import SolidBlock, assemble_solid
 from motoflex_ros.vehicle.superelement import rigid_field
 

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 import yaml
 
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.structures.beam import Material
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.component_model import tube_component
 
 try:   # the wheel (a test dependency) loads libgmsh and its system libraries with ctypes

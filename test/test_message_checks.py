@@ -9,6 +9,7 @@ from types import SimpleNamespace
 import pytest
 
 pytest.importorskip("rclpy")
+from motoflex_ros.formats.component_file import load_component  # noqa: E402
 from motoflex_ros.nodes.cdr import points_cdr, wrench_cdr  # noqa: E402
 from motoflex_ros.nodes.endpoints import ForeignPublisher, InputGuard, RunEndpoints  # noqa: E402
 from motoflex_ros.nodes.message_checks import BadMessage, BenchInputs  # noqa: E402
@@ -87,7 +88,7 @@ def test_stamps_going_back_refused_per_topic():
 def test_load_limit_is_the_protocols_largest_load_with_margin():
     from motoflex_ros.bench.offline_campaign import setup_campaign
     from motoflex_ros.bench.plan import LOAD_MARGIN
-    plan = setup_campaign("swingarm").plan
+    plan = setup_campaign(load_component("swingarm")).plan
     largest = max(abs(t.amplitude_n) for t in plan.tests)
     assert plan.load_limit_n == pytest.approx(LOAD_MARGIN * largest) and largest > 0
 

@@ -91,8 +91,10 @@ def test_nodes_identification_statuses_roundtrip():
 
     from motoflex_ros.bench.offline_campaign import identify_components
     from motoflex_ros.cli.output import to_jsonable
+    from motoflex_ros.formats.component_file import load_components
     from motoflex_ros.study.identified_variants import carried_inertias
-    components, carried = carried_inertias(["swingarm"])   # with the principal hinges
+    components = load_components(["swingarm"])   # with the principal hinges
+    carried = carried_inertias(components)
     runs = identify_components(components, seed=0, carried=carried)
     result = to_jsonable(runs["swingarm"][1].identification.to_dict())
     assert result["principal"]["identified"]

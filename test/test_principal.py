@@ -16,6 +16,7 @@ from motoflex_ros.bench.plan import plan_campaign
 from motoflex_ros.bench.protocols import load_protocol
 from motoflex_ros.config import config_path, load_yaml
 from motoflex_ros.errors import ConfigError, ModelError, ProtocolError
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.identify.identifier import StaticReading
 from motoflex_ros.identify.principal import (
     MOMENT_TESTS,
@@ -123,7 +124,7 @@ def test_single_hinge_has_one_direction_equal_to_the_static_identification():
 def test_frame_metric_reduces_to_the_static_test_on_the_bench():
     """The frame's head passes no moment: its metric has one direction and the principal
     hinge is the static test's (noise-free bench, the FE frame)."""
-    setup = with_sensor(setup_campaign("frame", noise_m=0.0), resolution_m=0.0)
+    setup = with_sensor(setup_campaign(load_component("frame"), noise_m=0.0), resolution_m=0.0)
     run = run_campaign(only_tests(setup, PRINCIPAL_TESTS))
     q0 = setup.reduced.q0
     carried = CarriedInertia(40.0, np.asarray(q0) + [0.2, 0.0, -0.4], np.eye(3), False)
@@ -140,7 +141,7 @@ def test_frame_metric_reduces_to_the_static_test_on_the_bench():
 def test_bench_compliance_equals_the_reduced_model_and_intervals_cover_it():
     """Front assembly, default noise: C from the three holds against the reduced model's
     static compliance; every hinge's k interval covers the noise-free value."""
-    setup = setup_campaign("front_assembly")
+    setup = setup_campaign(load_component("front_assembly"))
     carried = CarriedInertia(20.08, np.asarray(setup.reduced.q0) + [0.02, 0.0, -0.05],
                              np.diag([0.9, 1.4, 0.5]))
     run = run_campaign(only_tests(setup, PRINCIPAL_TESTS))
@@ -193,7 +194,7 @@ def test_indefinite_compliance_gives_a_clear_message():
 
 
 def test_moment_tests_are_planned_with_their_unit_moments():
-    setup = setup_campaign("front_assembly")
+    setup = setup_campaign(load_component("front_assembly"))
     by_name = {t.name: t for t in setup.plan.tests}
     q0 = setup.reduced.q0
     for name in MOMENT_TESTS:
@@ -225,7 +226,7 @@ def test_bad_moment_amplitude_names_file_and_key(tmp_path):
 
 def test_moment_beyond_the_linear_range_names_the_key(tmp_path):
     path = _protocol_with(tmp_path, normal_nm=1e5)
-    setup = setup_campaign("front_assembly")
+    setup = setup_campaign(load_component("front_assembly"))
     with pytest.raises(ProtocolError, match=r"p\.yaml: key 'moments\.normal_nm'.*N m turns"):
         plan_campaign(load_protocol(str(path)), setup.reduced, setup.modes)
 
@@ -295,8 +296,8 @@ def test_tube_end_compliance_is_the_timoshenko_cantilever(tmp_path):
     data["moments"] = {"axial_nm": 5.0, "normal_nm": 5.0}
     protocol = tmp_path / "with_moments.yaml"
     protocol.write_text(yaml.safe_dump(data))
-    setup = with_sensor(setup_campaign(tube_file(tmp_path, 30.0), str(protocol)), noise_m=0.0,
-                        resolution_m=0.0)
+    tube = load_component(tube_file(tmp_path, 30.0))
+    setup = with_sensor(setup_campaign(tube, str(protocol)), noise_m=0.0, resolution_m=0.0)
     run = run_campaign(only_tests(setup, PRINCIPAL_TESTS))
     q0 = setup.reduced.q0
     result = identify_principal(run.readings, q0, FixedMetric(np.eye(3)))
@@ -325,7 +326,6 @@ def test_metric_is_the_carried_bodies_kinetic_energy_at_q0(component, body_names
     of each carried body of the vehicle file, body by body, for the motions (u_y, theta_x,
     theta_z) of q0 (J^T diag(m, I) J summed; a sign slip in the offset terms moves the front
     assembly's bending hinge by 14 deg)."""
-    from motoflex_ros.structures.component_loader import load_component
     from motoflex_ros.study.identified_variants import carried_by_component
     from motoflex_ros.vehicle import lumped
     from motoflex_ros.vehicle.model import load_vehicle

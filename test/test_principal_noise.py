@@ -13,6 +13,7 @@ from motoflex_ros.bench.actuator import LoadActuator
 from motoflex_ros.bench.offline_campaign import measure_motion, only_tests, setup_campaign
 from motoflex_ros.bench.response import ComponentSimulator
 from motoflex_ros.config import resolve_config
+from motoflex_ros.formats.component_file import load_components
 from motoflex_ros.identify.principal import PRINCIPAL_TESTS, identify_principal
 from motoflex_ros.study.identified_variants import build_variant, carried_inertias
 from motoflex_ros.study.lumped_accuracy import QUANTITIES, flexible_reference, mode_errors
@@ -30,7 +31,8 @@ def front():
     """(vehicle, components, setup of the three tests, carried, samples, true motions,
     flexible reference curves)."""
     vehicle = load_vehicle(resolve_config("vehicles", "touring"))
-    loaded, carried = carried_inertias([NAME])
+    loaded = load_components([NAME])
+    carried = carried_inertias(loaded)
     components = {NAME: loaded[0]}
     setup = only_tests(setup_campaign(loaded[0]), PRINCIPAL_TESTS)
     actuator, simulator = LoadActuator(setup.plan), ComponentSimulator(setup.reduced)

@@ -7,8 +7,8 @@ import pytest
 
 from motoflex_ros.cli.study import agreement
 from motoflex_ros.config import config_path
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.identify.principal import principal_hinges
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.study.identified_variants import build_variant, carried_by_component
 from motoflex_ros.study.motorcycle import (
     principal_factors,

@@ -15,6 +15,7 @@ from motoflex_ros.bench.protocols import MIN_MARKER_SPREAD_M, load_protocol
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import config_path, load_yaml
 from motoflex_ros.errors import ConfigError, ProtocolError
+from motoflex_ros.formats.component_file import load_component
 
 BASE = load_yaml(config_path("protocols", "swingarm"))
 
@@ -23,7 +24,6 @@ BASE = load_yaml(config_path("protocols", "swingarm"))
 def first_hz():
     """First torsion/bending eigenfrequency of the swingarm [Hz] (from its reduced model)."""
     from motoflex_ros.bench.clamped_modes import clamped_modes
-    from motoflex_ros.structures.component_loader import load_component
     return clamped_modes(load_component("swingarm").clamped_reduced()).first_lateral().f_hz
 
 
@@ -125,7 +125,7 @@ PROTOCOL_ERRORS = [
 def test_protocol_that_cannot_run_names_file_and_key(tmp_path, edit, words, key):
     path = protocol_file(tmp_path, edit)
     with pytest.raises(ProtocolError, match=words) as err:
-        setup_campaign("swingarm", str(path))
+        setup_campaign(load_component("swingarm"), str(path))
     assert str(err.value).startswith(f"{path}: key '{key}': ")
 
 
@@ -156,7 +156,7 @@ def test_shipped_protocols_load():
 def test_non_positive_stiffness_is_refused_not_reported():
     """A sensor noise far above the deflections (1 m, once allowed by --noise) gave the swingarm
     a static k of -811 N m/rad with exit 0; the identification now refuses it."""
-    setup = only_tests(with_sensor(setup_campaign("swingarm"), noise_m=1.0),
+    setup = only_tests(with_sensor(setup_campaign(load_component("swingarm")), noise_m=1.0),
                        ("static", "torsion", "bending"))
     with pytest.raises(ProtocolError, match=r"swingarm: the static model gives k = -\d.* not a "
                                             r"positive stiffness"):
@@ -170,6 +170,7 @@ def test_reserved_names_cover_every_result_key(tmp_path):
 
     def edit(data):
         data["harmonic"]["tests"].append(dict(data["harmonic"]["tests"][0], name="foo"))
-    setup = setup_campaign("swingarm", str(protocol_file(tmp_path, edit)), noise_m=0.0)
+    setup = setup_campaign(load_component("swingarm"), str(protocol_file(tmp_path, edit)),
+                           noise_m=0.0)
     run = run_campaign(only_tests(setup, MODEL_TESTS + ("foo",)))
     assert sorted(run.identification.to_dict()) == sorted(MODEL_TESTS + RESULT_KEYS + ("foo",))

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 import yaml
 
+from motoflex_ros.formats.component_file import load_component
+from motoflex_ros.formats.mesh_examples import write_bracket_component
 from motoflex_ros.structures import component_model as components_module
-from motoflex_ros.structures.component_loader import load_component
-from motoflex_ros.structures.mesh_examples import write_bracket_component
 
 
 @pytest.fixture

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from hostile import run_motoflex
 
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.record.mcap_bag import BagWriter
 from motoflex_ros.record.rerun_readback import (
     component_rows,
@@ -19,7 +20,6 @@ from motoflex_ros.record.rerun_readback import (
     scalar_values,
     verify_text,
 )
-from motoflex_ros.structures import load_component
 from motoflex_ros.vehicle.animation import MODE_CYCLES, MODE_FRAMES_PER_CYCLE
 
 N_LOAD = 120

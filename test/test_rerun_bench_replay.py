@@ -12,10 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.record.mcap_bag import BagWriter, read_messages
 from motoflex_ros.record.rerun_bag import convert_bag, decode
 from motoflex_ros.record.rerun_readback import component_rows
-from motoflex_ros.structures import load_component
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 TOPICS = ("/bench/frame/load", "/bench/frame/phase", "/bench/frame/markers/true")

@@ -12,9 +12,9 @@ import pytest
 import scipy.sparse as sp
 
 from motoflex_ros.errors import ModelError
+from motoflex_ros.formats.mesh_examples import box_mesh
 from motoflex_ros.structures import sparse_solver
 from motoflex_ros.structures.craig_bampton import craig_bampton, interior_blocks
-from motoflex_ros.structures.mesh_examples import box_mesh
 from motoflex_ros.structures.solid import SolidBlock, assemble_solid
 from motoflex_ros.structures.sparse_solver import factorize_spd, pardiso_available
 

@@ -16,8 +16,8 @@ import pytest
 import scipy.sparse.linalg as spla
 
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.structures.bodies import assemble_bodies, reduce_bodies, split_bodies
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.full_model import full_clamped_matrices, full_clamped_modes
 
 TOLERANCE = 5e-3   # the 0.5 %

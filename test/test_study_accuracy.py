@@ -13,7 +13,7 @@ from regression import expected
 from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ModelError
-from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.formats.component_file import load_component, load_components
 from motoflex_ros.study.accuracy import rms_error_percent
 from motoflex_ros.study.identified_variants import carried_inertias
 from motoflex_ros.study.lumped_accuracy import (
@@ -33,7 +33,8 @@ SPEEDS = np.arange(40.0, 211.0, 10.0) / 3.6
 def identified_components():
     """The bench identification of the three components with their carried inertias (seed 0),
     as identification.json holds it."""
-    components, carried = carried_inertias(["frame", "front_assembly", "swingarm"])
+    components = load_components(["frame", "front_assembly", "swingarm"])
+    carried = carried_inertias(components)
     runs = identify_components(components, carried=carried)
     return {name: run.identification.to_dict() for name, (_, run) in runs.items()}
 

@@ -14,7 +14,7 @@ import yaml
 
 from motoflex_ros.cli.main import main
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS, config_path
-from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.study.factorial import FACTORS, PAPER_TABLE2_NOMINAL, full_factorial
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.motorcycle import with_stiffness

@@ -63,10 +63,10 @@ def motorcycle():
     from motoflex_ros.bench.offline_campaign import identify_components
     from motoflex_ros.cli.output import to_jsonable
     from motoflex_ros.config import config_path
-    from motoflex_ros.structures.component_loader import load_component
+    from motoflex_ros.formats.component_file import load_component, load_components
     from motoflex_ros.vehicle.lumped import COMPONENTS
     from motoflex_ros.vehicle.model import load_vehicle
-    runs = identify_components(list(COMPONENTS))
+    runs = identify_components(load_components(list(COMPONENTS)))
     identified = to_jsonable({n: r.identification.to_dict() for n, (_, r) in runs.items()})
     components = {name: load_component(name) for name in COMPONENTS}
     return load_vehicle(config_path("vehicles", "touring")), components, identified

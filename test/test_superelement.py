@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from motoflex_ros.config import config_path
-from motoflex_ros.structures.component_loader import load_component
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import Body, Joint, load_vehicle, parallel_axis

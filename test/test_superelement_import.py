@@ -1,7 +1,7 @@
 """Pre-reduced superelements (issue 15): a reduction made elsewhere, given as its reduced
 matrices (Matrix Market) and interface DOF map, enters the bench and the vehicle like our own.
 
-Round trip: reduce here, export (motoflex_ros.structures.superelement_file), re-import: the
+Round trip: reduce here, export (motoflex_ros.formats.superelement_file), re-import: the
 bench results (the whole campaign, exact sensor) and the vehicle's superelement and flexible
 weave/wobble equal to 1e-9. For a mesh component (an L bracket of hexahedra) and for the
 shipped swingarm (two clamps), placed in the touring motorcycle.
@@ -15,9 +15,9 @@ from hostile import run_motoflex
 from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign, with_sensor
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.structures.component_loader import load_component
-from motoflex_ros.structures.mesh_examples import write_bracket_component
-from motoflex_ros.structures.superelement_file import export_superelement
+from motoflex_ros.formats.component_file import load_component
+from motoflex_ros.formats.mesh_examples import write_bracket_component
+from motoflex_ros.formats.superelement_file import export_superelement
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle

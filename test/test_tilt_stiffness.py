@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from motoflex_ros.config import config_path
-from motoflex_ros.structures import load_component
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.tilt_stiffness import (
     JOINT_LINKS,
@@ -35,11 +35,15 @@ def _blocks(component):
 def test_factor_scales_only_the_joint_links_rotations(part):
     """"rotation": the links' 3 x 3 rotational blocks (300 N m/rad about every axis) times the
     factor; "tilt": times the factor about the axes normal to the stanchion, unchanged about
-    the stanchion's own axis; every other spring, and the translations, unchanged."""
+    the stanchion's own axis; every other spring, and the translations, unchanged; the
+    component given is left as it was (a changed copy comes back)."""
     component = load_component("front_assembly")
     nominal, links = _blocks(component)
-    scaled, _ = _blocks(with_joint_link_tilt(7.0, part=part))
+    scaled, _ = _blocks(with_joint_link_tilt(7.0, component, part=part))
     assert set(nominal) == set(scaled)
+    kept, _ = _blocks(component)
+    for key, block in nominal.items():
+        np.testing.assert_array_equal(kept[key], block)
     for (_, stanchion), key in zip(JOINT_LINKS, links):
         block = nominal[key][3:, 3:]
         np.testing.assert_allclose(np.linalg.eigvalsh(block), [300.0] * 3)
@@ -63,8 +67,9 @@ def test_bridge_rocking_is_held_by_the_joint_links_alone():
     stiffness per unit factor the same at s = 0.001 and 0.01 (to 0.1 %), so k_rock ~ s and a
     rocking frequency ~ sqrt(s) at small s; at s = 1000 the structure in series holds it to
     under a tenth of that proportional stiffness."""
-    small, smaller = bridge_rocking_stiffness(0.01), bridge_rocking_stiffness(0.001)
-    stiff = bridge_rocking_stiffness(1000.0)
+    front = load_component("front_assembly")
+    small, smaller = bridge_rocking_stiffness(front, 0.01), bridge_rocking_stiffness(front, 0.001)
+    stiff = bridge_rocking_stiffness(front, 1000.0)
     for k in (small, smaller):
         assert abs(k[0]) < 1e-4 * k[1]           # steering about the head: free
     np.testing.assert_allclose(small[1:] / 0.01, smaller[1:] / 0.001, rtol=1e-3)

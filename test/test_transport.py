@@ -133,6 +133,7 @@ def test_campaign_on_the_plain_path_identifies_as_the_ctypes_path(tmp_path):
 
     from motoflex_ros.bench.offline_campaign import identify_components
     from motoflex_ros.cli.output import to_jsonable
+    from motoflex_ros.formats.component_file import load_components
     from motoflex_ros.record import mcap_bag
     from motoflex_ros.study.identified_variants import carried_inertias
     bag = tmp_path / "run"
@@ -142,7 +143,8 @@ def test_campaign_on_the_plain_path_identifies_as_the_ctypes_path(tmp_path):
     assert proc.returncode == 0, err
     assert "ROS transport rclpy" in err
     live = without_inputs(json.loads((bag / "identification.json").read_text()))
-    components, carried = carried_inertias([COMPONENT])
+    components = load_components([COMPONENT])
+    carried = carried_inertias(components)
     runs = identify_components(components, seed=0, carried=carried)
     _assert_same(live, {n: to_jsonable(r.identification.to_dict())
                         for n, (_, r) in runs.items()})

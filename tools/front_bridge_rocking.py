@@ -25,7 +25,7 @@ import sys
 import numpy as np
 
 from motoflex_ros.config import config_path
-from motoflex_ros.structures import load_component
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.tilt_stiffness import (
     FRONT,
@@ -65,17 +65,18 @@ def main():
     args = parser.parse_args()
     speeds = kmh_to_ms(args.speeds_kmh)
     vehicle = load_vehicle(config_path("vehicles", "touring"))
+    front = load_component(FRONT)
     print("1. fork bridge on the freed head, rocking stiffness [N m/rad] (steering, pitch/roll):")
     for factor in args.factors:
-        stiffness = bridge_rocking_stiffness(factor, args.part)
+        stiffness = bridge_rocking_stiffness(front, factor, args.part)
         print(f"   joint links' {args.part} x {factor:<6g} {np.round(stiffness, 1)}")
     if args.rocking_modes:
         per_body = build_variant(vehicle, "flexible_bodies", [FRONT], {},
-                                 {FRONT: load_component(FRONT)})
+                                 {FRONT: front})
         print("2. per-body modes between 2 and 6 Hz at 100 km/h:",
               ", ".join(f"{f:.2f} Hz ({c})" for f, c in
                         rocking_modes(linearize(per_body), kmh_to_ms(100.0))))
-    sweep = tilt_sweep(vehicle, speeds, args.factors, args.part,
+    sweep = tilt_sweep(vehicle, front, speeds, args.factors, args.part,
                        progress=lambda label: print(f"   ... {label}", file=sys.stderr))
     print("3. weave and wobble [1/s] at "
           + ", ".join(f"{ms_to_kmh(v):g}" for v in speeds) + " km/h")

@@ -38,7 +38,7 @@ def _cli_json(*argv):
 
 def bracket():
     """The L-bracket mesh's identified torsion and bending frequencies [Hz] (test_mesh_chain)."""
-    from motoflex_ros.structures.mesh_examples import write_bracket_component
+    from motoflex_ros.formats.mesh_examples import write_bracket_component
     with tempfile.TemporaryDirectory() as folder:
         path = write_bracket_component(Path(folder) / "bracket")
         found = _cli_json("identify", "--component", path, "--noise", "0", "--json")["bracket"]

@@ -24,8 +24,8 @@ import numpy as np
 
 from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
+from motoflex_ros.formats.component_file import load_component, load_components
 from motoflex_ros.inertia import composite_inertia
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.study.identified_variants import GAMMA
 from motoflex_ros.study.lumped_accuracy import _weave_wobble, flexible_reference, mode_errors
 from motoflex_ros.units import kmh_to_ms
@@ -44,7 +44,7 @@ class Study:
         self.vehicle = load_vehicle(config_path("vehicles", "touring"))
         self.comp = load_component("swingarm")
         self.site = lumped.site_of(self.comp)
-        runs = identify_components(["swingarm"])
+        runs = identify_components(load_components(["swingarm"]))
         self.ident = {n: run.identification.to_dict() for n, (_, run) in runs.items()}
         self.flexible = flexible_reference(self.vehicle, {"swingarm": self.comp}, self.ident,
                                            ["swingarm"], speeds)

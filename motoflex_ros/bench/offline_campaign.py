@@ -50,13 +50,13 @@ class CampaignRun:
     trace: dict = None
 
 
-def setup_campaign(component, protocol=None, noise_m=None, carried=None):
-    """CampaignSetup of a component (name, file or Component) with a protocol (name, file,
+def setup_campaign(comp, protocol=None, noise_m=None, carried=None):
+    """CampaignSetup of a built component ``comp`` (a structures Component, MeshComponent or
+    SuperelementComponent; read from its file at the edge:
+    :func:`motoflex_ros.formats.component_file.load_component`) with a protocol (name, file,
     Protocol or None for the component's shipped protocol); noise_m [m] overrides the sensor;
     ``carried`` the CarriedInertia of the principal hinges (None: they are not identified).
     """
-    from motoflex_ros.structures.component_loader import load_component
-    comp = load_component(component) if isinstance(component, str) else component
     reduced = comp.clamped_reduced()
     if protocol is None:
         protocol = protocol_for(comp.name)
@@ -172,7 +172,7 @@ def run_campaign(setup, seed=0, trace=False):
 
 def identify_components(components, protocol=None, noise_m=None, seed=0, progress=None,
                         carried=None):
-    """Run the campaign of each component; returns {name: (CampaignSetup, CampaignRun)}.
+    """Run the campaign of each (built) component; returns {name: (CampaignSetup, CampaignRun)}.
     ``progress`` (optional) is called with each component's name once it is done; ``carried``
     (optional) maps a component name to its CarriedInertia (the principal hinges' metric)."""
     out = {}

@@ -17,7 +17,6 @@ by order as the nodes pair them; the force is the load's amplitude along the tes
 whose labels do not match the loads' stamps) is replayed from the load stamps alone: one test
 from rest, first-order hold between the stamps (exact for a piecewise-linear load).
 """
-import functools
 import json
 from dataclasses import dataclass
 
@@ -25,10 +24,8 @@ import numpy as np
 
 from motoflex_ros.bench.actuator import LATERAL_WRENCH, LoadSample, wrench_amplitude
 from motoflex_ros.bench.response import ComponentSimulator
-from motoflex_ros.errors import MotoflexError
-from motoflex_ros.structures import load_component
 
-__all__ = ["ReplayedLoads", "recorded_samples", "replayed_displacements", "shipped_model"]
+__all__ = ["ReplayedLoads", "recorded_samples", "replayed_displacements"]
 
 NS_PER_S = 1_000_000_000
 
@@ -103,14 +100,3 @@ def replayed_displacements(reduced, samples, picks):
         if k in wanted:
             out[wanted[k]] = reduced.node_displacements(simulator.state[:reduced.n])[:, :3]
     return out
-
-
-@functools.cache
-def shipped_model(component):
-    """(Component, ReducedComponent) of a shipped component name or a component YAML file (the
-    clamped reduced model the component simulator integrates), or None when there is none."""
-    try:
-        comp = load_component(component)
-        return comp, comp.clamped_reduced()
-    except (MotoflexError, OSError, KeyError, ValueError):
-        return None

@@ -19,7 +19,7 @@ def fe_static_k(components):
     """{name: k [N m/rad]} of the clamped reduced finite-element model itself (eq. 8, the
     static lateral load the bench applies), for the components given by name or YAML file;
     a component without a model is left out."""
-    from motoflex_ros.bench.replayed_loads import shipped_model
+    from motoflex_ros.formats.component_file import shipped_model
     out = {}
     for spec in components:
         model = shipped_model(spec)

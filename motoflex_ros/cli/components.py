@@ -102,7 +102,7 @@ def _rows(summaries):
 
 
 def run(args):
-    from motoflex_ros.structures.component_loader import load_component
+    from motoflex_ros.formats.component_file import load_component
     from motoflex_ros.structures.component_summary import summarize
     from motoflex_ros.structures.paper_tables import COMPONENTS
 
@@ -111,7 +111,7 @@ def run(args):
     reduced = [c.clamped_reduced() for c in components]
     summaries = [summarize(c, r) for c, r in zip(components, reduced)]
     if args.export:
-        from motoflex_ros.structures.superelement_file import export_superelement
+        from motoflex_ros.formats.superelement_file import export_superelement
         for comp in components:
             export_superelement(comp, args.export)
     if args.plot:

@@ -158,10 +158,10 @@ def _modal_table(results, stream):
 
 
 def _measured_inputs(args):
-    """The Measurements and BenchFile of --measured/--bench (ConfigError naming the option
+    """The Measurements and PhysicalBench of --measured/--bench (ConfigError naming the option
     when one is missing or combined with the virtual bench's options)."""
     from motoflex_ros.errors import ConfigError
-    from motoflex_ros.identify.bench_file import load_bench
+    from motoflex_ros.formats.bench_file import load_bench
     if not args.bench:
         raise ConfigError("command line", "--bench", "--measured needs the bench file "
                                                      "(--bench BENCH.yaml: bench, loaded_end, "
@@ -232,11 +232,12 @@ def run(args):
     if args.measured:
         return run_measured(args)
     from motoflex_ros.bench.offline_campaign import identify_components
+    from motoflex_ros.formats.component_file import load_components
     from motoflex_ros.study.identified_variants import carried_inertias
     if args.out:
         check_new_file(args.out, args.force)
-    components, carried = carried_inertias(args.component or list(DEFAULT_COMPONENTS),
-                                           args.vehicle)
+    components = load_components(args.component or list(DEFAULT_COMPONENTS))
+    carried = carried_inertias(components, args.vehicle)
     if args.protocol:   # a bad protocol is refused before the work (and its progress) starts
         from motoflex_ros.bench.protocols import load_protocol
         load_protocol(args.protocol)

@@ -18,19 +18,22 @@ COMPONENTS = MOTORCYCLE_COMPONENTS
 _USE = "command line"
 
 
-def identification_results(path=None, components=COMPONENTS, seed=0, vehicle="touring"):
+def identification_results(path=None, components=None, seed=0, vehicle="touring"):
     """{component: results} from a YAML/JSON file of ``motoflex identify --out``, or, without a
-    file, from running the offline bench campaign (seeded) for ``components`` (names, files or
-    structures Components), the principal hinges in the metric of what ``vehicle``'s bodies
-    hang from each loaded end."""
+    file, from running the offline bench campaign (seeded) for ``components`` (structures
+    Components; None: the shipped motorcycle components), the principal hinges in the metric of
+    what ``vehicle``'s bodies hang from each loaded end."""
     if path:
         from motoflex_ros.identify.results import load_results_file
         return load_results_file(Path(path))
     from motoflex_ros.bench.offline_campaign import identify_components
     from motoflex_ros.cli.output import progress_bar
+    from motoflex_ros.formats.component_file import load_components
     from motoflex_ros.study.identified_variants import carried_inertias
     print("running the bench identification ...", file=sys.stderr)
-    components, carried = carried_inertias(components, vehicle)
+    if components is None:
+        components = load_components(COMPONENTS)
+    carried = carried_inertias(components, vehicle)
     with progress_bar(len(components), "bench identification", "component") as bar:
         runs = identify_components(components, seed=seed,
                                    progress=lambda _name: bar.update(1), carried=carried)
@@ -40,7 +43,7 @@ def identification_results(path=None, components=COMPONENTS, seed=0, vehicle="to
 def motorcycle_components(names=COMPONENTS, roles=None):
     """{name: structures Component} of the motorcycle components: the shipped ones, or the file
     ``roles[name]`` where one is given (``--use``, :func:`component_roles`; said on stderr)."""
-    from motoflex_ros.structures.component_loader import load_component
+    from motoflex_ros.formats.component_file import load_component
 
     for name, path in (roles or {}).items():
         if name in names:
@@ -60,7 +63,7 @@ def component_roles(files):
     """{role: path} of ``--use FILE ...``: each file's component name (``component`` of a beam
     file, ``name`` or the file's stem of a mesh or superelement file) must be one of the
     motorcycle's components, each at most once. ConfigError naming the file otherwise."""
-    from motoflex_ros.structures.component_loader import component_name
+    from motoflex_ros.formats.component_file import component_name
 
     roles = {}
     for text in files or ():

@@ -23,8 +23,13 @@ def write_recording(bag, out=None, vehicle="touring", progress=False,
     from motoflex_ros.record.rerun_bag import convert_bag, run_identification
     motorcycle = None
     if vehicle is not None:
+        from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+        from motoflex_ros.formats.component_file import load_component
         from motoflex_ros.study.identified_variants import identified_motorcycle
         from motoflex_ros.vehicle.animation import motorcycle_motion
-        model, description = identified_motorcycle(vehicle, run_identification(bag))
+        identified = run_identification(bag)
+        components = {n: load_component(n) for n in MOTORCYCLE_COMPONENTS
+                      if n in (identified or {})}
+        model, description = identified_motorcycle(vehicle, identified, components)
         motorcycle = (motorcycle_motion(model, kmh_to_ms(speed_kmh)), description)
     return convert_bag(bag, out, motorcycle, progress=progress)

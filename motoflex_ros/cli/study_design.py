@@ -65,7 +65,7 @@ def _check_counts(args):
 def write_design_files(result, directory):
     """Write the component files of the lightest feasible design and of each Pareto point
     under ``directory``; returns {component: path} of the lightest feasible design."""
-    from motoflex_ros.study.design_space import design_component_text
+    from motoflex_ros.formats.design_space_file import design_component_text
 
     space, root = result.space, Path(directory)
     designs = [(f"pareto_{i:02d}", f"Pareto point {i}", p) for i, p in enumerate(result.pareto)]
@@ -83,9 +83,9 @@ def write_design_files(result, directory):
 
 
 def _setup(args):
-    from motoflex_ros.structures.component_loader import load_component
+    from motoflex_ros.formats.component_file import load_component
+    from motoflex_ros.formats.design_space_file import held_members_mass, load_design_space
     from motoflex_ros.study.design_evaluate import design_evaluator
-    from motoflex_ros.study.design_space import load_design_space
     from motoflex_ros.study.design_study import FullEvaluator
     from motoflex_ros.vehicle.model import load_vehicle
 
@@ -93,8 +93,9 @@ def _setup(args):
     speeds = study_speeds(args.step_kmh, 10.0)
     vehicle = load_vehicle(resolve_config("vehicles", space.vehicle))
     components = {n: load_component(space.sources.get(n, n)) for n in MOTORCYCLE_COMPONENTS}
+    static_k = any("min_static_k" in f for f in space.floors.values())
     evaluator = design_evaluator(space, vehicle, components, speeds,
-                                 static_k=any("min_static_k" in f for f in space.floors.values()))
+                                 held_members_mass(space, components), static_k=static_k)
     return evaluator, FullEvaluator(space, vehicle, components, tuple(speeds))
 
 

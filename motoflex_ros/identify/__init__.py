@@ -14,7 +14,8 @@
 - :mod:`.axis_model`: the identified model or axis: values, 95 % intervals, counts.
 - :mod:`.matrix_pencil`: poles of a multi-channel free response.
 - :mod:`.principal`: principal hinges in series from the out-of-plane end compliance.
-- :mod:`.measurements`, :mod:`.bench_file`, :mod:`.segmentation`, :mod:`.measured`: a real
-  rig's load and marker streams (CSV), its bench file, the tests found in its load history,
-  and their identification.
+- :mod:`.measurements`, :mod:`.physical_bench`, :mod:`.segmentation`, :mod:`.measured`: a
+  real rig's load and marker streams, its bench (q0, markers, sensor; read from its bench file
+  in :mod:`motoflex_ros.formats.bench_file`), the tests found in its load history, and their
+  identification.
 """

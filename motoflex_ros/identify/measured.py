@@ -2,8 +2,8 @@
 
 Input: :class:`motoflex_ros.identify.measurements.Measurements` (one row per marker frame with
 the load at its capture time; from a CSV file, a rosbag2 recording or live topics) and the
-:class:`motoflex_ros.identify.bench_file.BenchFile` (q0, marker offsets, sensor). The method is
-the virtual identification's (Passigato et al. 2023, Sect. 4.2; the same functions of
+:class:`motoflex_ros.identify.physical_bench.PhysicalBench` (q0, marker offsets, sensor). The
+method is the virtual identification's (Passigato et al. 2023, Sect. 4.2; the same functions of
 :mod:`motoflex_ros.identify`), with what the component's model gave there taken from the data:
 
 - the tests and their phases: from the load history (:mod:`.segmentation`), or the labels;
@@ -41,7 +41,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.identify.bench_file import MIN_REFERENCE_FRAMES, check_marker_spread
 from motoflex_ros.identify.decay import decay_poles, match_pole
 from motoflex_ros.identify.identifier import (
     MIN_FIT_SAMPLES,
@@ -57,6 +56,7 @@ from motoflex_ros.identify.peaks import (
     peak_poses,
     unwrap_axis,
 )
+from motoflex_ros.identify.physical_bench import MIN_REFERENCE_FRAMES, check_marker_spread
 from motoflex_ros.identify.principal import MOMENT_TESTS, identify_principal, moment_axes
 from motoflex_ros.identify.results import (
     LEVEL,
@@ -613,7 +613,7 @@ def _principal(data, poses, bench, ref_frames, static_seg, static_reading, repor
 
 
 def identify_measured(data, bench):
-    """MeasuredIdentification of Measurements ``data`` with a BenchFile (module doc).
+    """MeasuredIdentification of Measurements ``data`` with a PhysicalBench (module doc).
 
     MeasurementError (naming the file, the row and the column) when the data cannot give an
     identification: no static test, markers that do not fit the reference, too few frames

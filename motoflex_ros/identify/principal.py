@@ -148,7 +148,7 @@ class CarriedInertia:
 
     def bench_key(self):
         """The bench file's ``carried`` mapping of this inertia
-        (:mod:`motoflex_ros.identify.bench_file`)."""
+        (:mod:`motoflex_ros.formats.bench_file`)."""
         i = np.asarray(self.inertia, float)
         return {"mass_kg": float(self.mass), "com_m": [float(v) for v in self.com],
                 "inertia_kg_m2": {"xx": float(i[0, 0]), "yy": float(i[1, 1]),

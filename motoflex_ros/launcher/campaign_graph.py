@@ -66,7 +66,7 @@ def bench_components(components):
     /bench/<name>/...) and what the nodes load (a shipped name, or a YAML file's absolute
     path); ConfigError when two have one name."""
     from motoflex_ros.errors import ConfigError
-    from motoflex_ros.structures.component_loader import component_name
+    from motoflex_ros.formats.component_file import component_name
     names, specs = [], []
     for given in components:
         name = component_name(given)
@@ -123,9 +123,10 @@ def planned_run(components, noise=None, protocol=None):
     components)."""
     from motoflex_ros.bench.actuator import PAUSE_S
     from motoflex_ros.bench.offline_campaign import setup_campaign
+    from motoflex_ros.formats.component_file import load_component
     total, tests = 0.0, 0
     for name in components:
-        plan = setup_campaign(name, protocol, noise).plan
+        plan = setup_campaign(load_component(name), protocol, noise).plan
         total += sum(t.max_samples / t.rate_hz for t in plan.tests) + PAUSE_S * len(plan.tests)
         tests += len(plan.tests)
     return total - PAUSE_S, tests
@@ -138,12 +139,13 @@ def campaign_inputs(components, noise=None, protocol=None):
     the identification node's :func:`~motoflex_ros.nodes.bench_graph.campaign_setups` does);
     read here once, so that the nodes can be held to the same bytes."""
     from motoflex_ros.config import resolve_config
+    from motoflex_ros.formats.component_file import load_components
     from motoflex_ros.input_pins import recording_inputs
     from motoflex_ros.study.identified_variants import carried_inertias
     from motoflex_ros.vehicle.model import load_vehicle
     with recording_inputs() as inputs:
         planned = planned_run(components, noise, protocol)
-        carried_inertias(components)
+        carried_inertias(load_components(components))
         if with_vehicle(components):
             load_vehicle(resolve_config("vehicles", VEHICLE))
     return planned, inputs

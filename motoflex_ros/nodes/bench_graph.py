@@ -47,6 +47,7 @@ def campaign_setups(params, inputs=None):
     from dataclasses import replace
 
     from motoflex_ros.bench.offline_campaign import checked_noise, setup_campaign
+    from motoflex_ros.formats.component_file import load_component
     from motoflex_ros.input_pins import recording_inputs
     from motoflex_ros.study.identified_variants import carried_inertias
     noise = None if params["noise"] == -1.0 else checked_noise(params["noise"], "ROS parameters",
@@ -55,8 +56,9 @@ def campaign_setups(params, inputs=None):
     setups = {}
     for given in params["components"]:
         with recording_inputs() as read:   # the component, its protocol and the vehicle file
-            loaded, carried = carried_inertias([given])
-            setup = setup_campaign(loaded[0], protocol, noise)
+            component = load_component(given)
+            carried = carried_inertias([component])
+            setup = setup_campaign(component, protocol, noise)
         setup = replace(setup, carried=carried.get(setup.name))
         # keyed by the component's own name (a YAML file's too: its topics are /bench/<name>/)
         setups[setup.name] = setup

@@ -77,7 +77,7 @@ class MeasuredInputs:
     """The measured-mode subscriptions of ``node`` and what they received."""
 
     def __init__(self, node, params):
-        from motoflex_ros.identify.bench_file import load_bench
+        from motoflex_ros.formats.bench_file import load_bench
         if not params["bench_file"]:
             raise ParameterError(f"node '{node.get_name()}': parameter 'bench_file' is "
                                  f"required in mode measured (a bench file: bench, "

@@ -140,7 +140,7 @@ def _marker_stream(path, topic):
 
 
 def read_bag(path, bench, load_topic=None, markers_topics=None):
-    """Measurements of a rosbag2 folder for a BenchFile (module doc)."""
+    """Measurements of a rosbag2 folder for a PhysicalBench (module doc)."""
     path = Path(path)
     topics = bag_topics(path)
     load = _pick(topics, load_topic, (WRENCH,), f"/bench/{bench.name}/load", "load cell",

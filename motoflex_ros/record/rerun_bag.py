@@ -35,12 +35,9 @@ from pathlib import Path
 import numpy as np
 import rerun as rr
 
-from motoflex_ros.bench.replayed_loads import (
-    recorded_samples,
-    replayed_displacements,
-    shipped_model,
-)
+from motoflex_ros.bench.replayed_loads import recorded_samples, replayed_displacements
 from motoflex_ros.files import read_json
+from motoflex_ros.formats.component_file import shipped_model
 from motoflex_ros.frames import BENCH_SPACING_M
 from motoflex_ros.progress import progress_bar
 from motoflex_ros.record import rerun_log as rl
@@ -119,7 +116,7 @@ campaign writes it when a component came from a file)."""
 
 def _model(component):
     """(Component, ReducedComponent) of a component of the bag (a shipped name, or the file the
-    bag's component_files.json names), or None (:func:`motoflex_ros.bench.replayed_loads.
+    bag's component_files.json names), or None (:func:`motoflex_ros.formats.component_file.
     shipped_model`)."""
     return shipped_model(_SOURCES.get(component, component))
 

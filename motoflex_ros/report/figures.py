@@ -11,11 +11,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from motoflex_ros.formats.component_file import load_component
 from motoflex_ros.plots.axes import axes_figure as component_axes_figure
 from motoflex_ros.plots.component_figure import mode_drawing
 from motoflex_ros.plots.labels import VARIANT_LABELS  # noqa: E402
 from motoflex_ros.plots.study_figures import accuracy_bars_figure, pearson_bars_figure
-from motoflex_ros.structures import load_component
 from motoflex_ros.units import ms_to_kmh  # noqa: E402
 
 __all__ = ["png_of", "component_modes_figure", "axes_figure", "fig9_figure", "fig8_figure",

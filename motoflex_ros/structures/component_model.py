@@ -2,7 +2,7 @@
 
 :class:`ComponentModel` is the chain from a structure to its Craig-Bampton and clamped reduced
 models; :class:`Component` is a beam structure. Two YAML formats build one (read by
-:mod:`motoflex_ros.structures.component_loader`):
+:mod:`motoflex_ros.formats.component_file`):
 
 - ``component: tube``: the generic validation tube (keys ``tube``, ``material``, ``elements``);
   it starts at the clamp O, lies in the x-z plane at ``pitch_deg`` above x, and its free end is

@@ -1,4 +1,5 @@
-"""Schemas of the component YAML files and the builder of a beam structure from them.
+"""Schemas of the beam component YAML files and the builder of a beam structure from a parsed
+one (the file is read at the edge: :mod:`motoflex_ros.formats.component_file`).
 
 Every value is checked on load (unknown/missing keys, types, NaN, ranges, references between
 keys such as a member naming an unknown node) and reported as ConfigError(file, key, problem).
@@ -7,12 +8,13 @@ import math
 
 import numpy as np
 
-from motoflex_ros.config import Field, angle, number, positive
+from motoflex_ros.config import Field, angle, number, positive, validate
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.inertia import check_inertia
 from motoflex_ros.limits import check_limit
 from motoflex_ros.structures.assembly import Structure
 from motoflex_ros.structures.beam import Material, rectangular_tube_section, tube_section
+from motoflex_ros.structures.component_model import DEFAULT_DAMPING_RATIO
 from motoflex_ros.structures.physical_ranges import (
     COMPONENT_SIZE_M,
     DENSITY,
@@ -21,7 +23,7 @@ from motoflex_ros.structures.physical_ranges import (
     PART_MASS_MAX_KG,
 )
 
-__all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "structure_from_config"]
+__all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "structure_from_config", "damping_ratio_setting"]
 
 # Physical ranges of every number (SI); those the mesh schema shares are in physical_ranges.
 SECTION_SIZE_M = (1e-4, 2.0)  # outer diameter, width, height [m]
@@ -36,8 +38,7 @@ _MATERIAL = Field("mapping", fields={
 _POINT = Field("vec3", -COMPONENT_SIZE_M, COMPONENT_SIZE_M)
 _DIRECTION = Field("vec3", -1e3, 1e3, required=False, default=None)
 
-# modal damping ratio of the clamped reduced model: checked by
-# component_loader.damping_ratio_setting
+# modal damping ratio of the clamped reduced model: checked by damping_ratio_setting
 _DAMPING = Field("any", required=False, default=None,
                  help="a number in [0, 1) or a list of them, one per mode")
 
@@ -237,3 +238,15 @@ def structure_from_config(cfg, source, component_cls):
                          loaded_end=end, interface_nodes=clamps + (end,) + others,
                          node_names=names, origin=np.asarray(cfg["placement"]["origin"]),
                          body_names=body_names)
+
+
+def damping_ratio_setting(value, source):
+    """The ``damping_ratio`` key [-]: None (default 1 %), a number in [0, 1) or a non-empty list
+    of them (one per mode of the clamped reduced model); ConfigError naming file and key."""
+    if value is None:
+        return DEFAULT_DAMPING_RATIO
+    ratio = number(0.0, 1.0, open_high=True)
+    if isinstance(value, list):
+        return tuple(validate(value, Field("list", min_items=1, item=ratio), source,
+                              "damping_ratio"))
+    return validate(value, ratio, source, "damping_ratio")

@@ -7,9 +7,10 @@ reduction. It is kept in a cache folder keyed by a SHA-256 of everything it depe
 - the component's YAML file and its mesh file (bytes: material, sets, spider points, rigid
   parts, units, the mesh itself),
 - the options (number of modes, highest frequency [Hz]),
-- the source of the code that builds it (the solid elements, the mesh reader and component,
-  the assembly, the Craig-Bampton reduction and the sparse solver), so that a changed
-  formulation never returns an old result.
+- the source of the code that builds it (the solid elements, the mesh component, the
+  assembly, the Craig-Bampton reduction and the sparse solver; the mesh reader's, in
+  :mod:`motoflex_ros.formats`, comes with the input files), so that a changed formulation
+  never returns an old result.
 
 The damping ratio is not in the key: it changes no reduced matrix (the reduced models built
 from the cached one take the ratio asked for). Folder: ``MOTOFLEX_CACHE_DIR`` if set (``off``:
@@ -31,7 +32,7 @@ from motoflex_ros.structures.craig_bampton import CraigBamptonModel
 __all__ = ["cache_folder", "reduction_key", "load_reduction", "store_reduction", "CODE_FILES"]
 
 FORMAT = 1
-CODE_FILES = ("solid.py", "mesh_file.py", "mesh_component.py", "assembly.py",
+CODE_FILES = ("solid.py", "mesh_component.py", "assembly.py",
               "craig_bampton.py", "sparse_solver.py", "reduction_cache.py")
 """The structures modules whose source is part of the key."""
 

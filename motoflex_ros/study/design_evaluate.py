@@ -16,7 +16,6 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from motoflex_ros.structures.clamped import clamped_frequencies
-from motoflex_ros.structures.component_loader import load_component_config
 from motoflex_ros.study.design_space import (
     INDEX_NAMES,
     component_with,
@@ -118,16 +117,16 @@ class DesignEvaluator:
         return result
 
 
-def design_evaluator(space, vehicle, components, speeds, static_k=False):
+def design_evaluator(space, vehicle, components, speeds, held_mass_kg, static_k=False):
     """The DesignEvaluator of ``space`` on the flexible ``vehicle`` (rigid VehicleModel) with
     ``components`` ({name: Component} of frame, front assembly and swingarm: the nominal
-    design), over ``speeds`` [m/s] (40 to 210 km/h)."""
+    design), over ``speeds`` [m/s] (40 to 210 km/h); ``held_mass_kg`` [kg] the members' mass of
+    the components the space does not vary
+    (:func:`motoflex_ros.formats.design_space_file.held_members_mass`)."""
     engine = design_engine(vehicle, components, space.components())
     lin = LinearVehicle(engine.system, engine.E_coeffs, engine.A_coeffs)
     sweep = modal_sweep(lin, np.asarray(speeds, float)[:1])
     e0, a0 = lin.pencil(np.asarray(speeds, float)[:1])
     start = HomotopyStart(nominal=(e0[0], a0[0]), targets=tuple(_mode_targets(sweep)))
-    held = sum(members_mass(load_component_config(c.source)) for name, c in components.items()
-               if name not in space.components())
     return DesignEvaluator(space, replace(engine, system=None), tuple(np.asarray(speeds, float)),
-                           start, float(held), static_k)
+                           start, float(held_mass_kg), static_k)

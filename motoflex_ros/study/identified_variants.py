@@ -21,7 +21,6 @@ from motoflex_ros.identify.principal import CarriedInertia
 from motoflex_ros.identify.results import results_source
 from motoflex_ros.identify.stiffness import GAMMA_S
 from motoflex_ros.lumped_stiffness.axis import axis_stiffness
-from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.flexible_motorcycle import per_body_vehicle
 from motoflex_ros.vehicle.lumped import HINGE_VARIANTS, VARIANTS, FlexJoint, axis_in_vehicle
@@ -118,17 +117,14 @@ def carried_by_component(vehicle, components):
 
 
 def carried_inertias(components, vehicle="touring"):
-    """(Components, {name: CarriedInertia}): ``components`` (names, files or structures
-    Components) loaded, and what the loaded end of each motorcycle component among them
-    carries in the vehicle file ``vehicle`` (a shipped name or a path): the principal hinges'
-    metric in the virtual rig."""
-    loaded = [component if hasattr(component, "clamped_reduced") else load_component(component)
-              for component in components]
-    placed = {c.name: c for c in loaded if c.name in lumped.CARRIED}
+    """{name: CarriedInertia}: what the loaded end of each motorcycle component among
+    ``components`` (built structures components, e.g. of
+    :func:`motoflex_ros.formats.component_file.load_components`) carries in the vehicle file
+    ``vehicle`` (a shipped name or a path): the principal hinges' metric in the virtual rig."""
+    placed = {c.name: c for c in components if c.name in lumped.CARRIED}
     if not placed:
-        return loaded, {}
-    return loaded, carried_by_component(load_vehicle(resolve_config("vehicles", vehicle)),
-                                        placed)
+        return {}
+    return carried_by_component(load_vehicle(resolve_config("vehicles", vehicle)), placed)
 
 
 def _series_hinges(variant, component, identified):
@@ -244,17 +240,17 @@ def build_variant(vehicle, variant, names, identified, components):
     return lumped.lumped_vehicle(vehicle, variant, joints)
 
 
-def identified_motorcycle(vehicle="touring", identified=None):
+def identified_motorcycle(vehicle="touring", identified=None, components=None):
     """(VehicleModel, description): the lumped 'static' variant of all components identified in
     ``identified`` (identify-format dict) when it can be built, else the rigid ``vehicle``
-    (a shipped name or a YAML file)."""
+    (a shipped name or a YAML file). ``components``: {name: structures Component} of (at least)
+    the motorcycle components identified."""
     rigid = load_vehicle(resolve_config("vehicles", vehicle))
     names = [n for n in lumped.COMPONENTS if n in (identified or {})]
     if not names:
         return rigid, f"{vehicle} (rigid)"
     try:
-        components = {n: load_component(n) for n in names}
-        model = build_variant(rigid, "static", names, identified, components)
+        model = build_variant(rigid, "static", names, identified, components or {})
     except (MotoflexError, KeyError, ValueError) as exc:
         return rigid, f"{vehicle} (rigid; lumped 'static' variant not built: {exc})"
     return model, f"{vehicle}, lumped 'static' variant of {', '.join(names)}"

@@ -29,11 +29,11 @@ Cost: one per-body linearization per factor (about 85 s on this machine, more wh
 the held-bridge one and the superelement one; minutes for a sweep, so it runs from the tool
 (tools/front_bridge_rocking.py), not in the test suite.
 """
+import copy
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from motoflex_ros.structures import load_component
 from motoflex_ros.structures.bodies import assemble_bodies, reduce_bodies
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
@@ -72,7 +72,7 @@ def _scaling(component, stanchion, factor, part):
     return np.sqrt(factor) * (np.eye(3) - along) + along
 
 
-def with_joint_link_tilt(factor, component=None, part="tilt"):
+def with_joint_link_tilt(factor, component, part="tilt"):
     """The front assembly with its joint links' tilt (or whole rotational) stiffness scaled.
 
     Parameters
@@ -80,8 +80,8 @@ def with_joint_link_tilt(factor, component=None, part="tilt"):
     factor : float
         Multiplies the joint links' (:data:`JOINT_LINKS`) cardanic stiffness (300 N m/rad
         nominal) [-]; translations unchanged.
-    component : Component, optional
-        The front assembly to start from (default: the shipped one, loaded afresh).
+    component : Component
+        The front assembly to start from (left unchanged).
     part : {"tilt", "rotation"}
         "tilt": the stiffness about the axes normal to the stanchion only; "rotation": the
         whole rotational block, the torsion about the stanchion too (module docstring).
@@ -89,10 +89,10 @@ def with_joint_link_tilt(factor, component=None, part="tilt"):
     Returns
     -------
     Component
-        ``component`` changed in place (a fresh load when not given).
+        A copy of ``component`` with the joint links changed.
 
     """
-    component = load_component(FRONT) if component is None else component
+    component = replace(component, structure=copy.deepcopy(component.structure))
     springs = component.structure.springs
     for top, stanchion in JOINT_LINKS:
         i = _spring_index(component, top, stanchion)
@@ -104,14 +104,15 @@ def with_joint_link_tilt(factor, component=None, part="tilt"):
     return component
 
 
-def bridge_rocking_stiffness(factor=1.0, part="tilt"):
-    """Eigenvalues [N m/rad] (ascending) of the fork bridge's rotational stiffness at its head
-    node, the head spring's rotations freed (the Telelever's spherical head joint; translations
-    kept), joint links' ``part`` at ``factor`` times nominal; FE bodies reduced and joined as the
-    per-body motorcycle joins them (:func:`motoflex_ros.structures.bodies.assemble_bodies`).
+def bridge_rocking_stiffness(front_assembly, factor=1.0, part="tilt"):
+    """Eigenvalues [N m/rad] (ascending) of the fork bridge's rotational stiffness of the
+    ``front_assembly`` (a structures Component) at its head node, the head spring's rotations
+    freed (the Telelever's spherical head joint; translations kept), joint links' ``part`` at
+    ``factor`` times nominal; FE bodies reduced and joined as the per-body motorcycle joins
+    them (:func:`motoflex_ros.structures.bodies.assemble_bodies`).
 
     The inverse of the 3 x 3 rotational block of the bridge node's static compliance."""
-    component = with_joint_link_tilt(factor, part=part)
+    component = with_joint_link_tilt(factor, front_assembly, part)
     springs = component.structure.springs
     i = _spring_index(component, "steering_head", "fork_bridge")
     n1, n2, block = springs[i]
@@ -167,13 +168,16 @@ def _weave_wobble(model, speeds):
     return {m: np.asarray(sweep.modes[m], complex) for m in _MODES}
 
 
-def tilt_sweep(vehicle, speeds, factors=TILT_FACTORS, part="tilt", progress=None):
+def tilt_sweep(vehicle, front_assembly, speeds, factors=TILT_FACTORS, part="tilt",
+               progress=None):
     """Weave and wobble of the per-body motorcycle, front assembly flexible, over ``factors``.
 
     Parameters
     ----------
     vehicle : VehicleModel
         The rigid motorcycle (config/vehicles/touring.yaml).
+    front_assembly : Component
+        The nominal front assembly (config/components/front_assembly.yaml, as loaded).
     speeds : array (s,)
         Speeds [m/s].
     factors : sequence of float
@@ -190,7 +194,7 @@ def tilt_sweep(vehicle, speeds, factors=TILT_FACTORS, part="tilt", progress=None
     """
     speeds = np.asarray(speeds, float)
     say = progress or (lambda label: None)
-    nominal = {FRONT: load_component(FRONT)}
+    nominal = {FRONT: front_assembly}
     say("one clamped superelement")
     superelement = _weave_wobble(build_variant(vehicle, "flexible", [FRONT], {}, nominal), speeds)
     say("per-body, head revolute (bridge held)")
@@ -200,7 +204,7 @@ def tilt_sweep(vehicle, speeds, factors=TILT_FACTORS, part="tilt", progress=None
     for factor in factors:
         say(f"per-body, joint links' {part} x {factor:g}")
         model = build_variant(vehicle, "flexible_bodies", [FRONT], {},
-                              {FRONT: with_joint_link_tilt(factor, part=part)})
+                              {FRONT: with_joint_link_tilt(factor, front_assembly, part)})
         rows.append(_weave_wobble(model, speeds))
     modes = {m: np.array([row[m] for row in rows]) for m in _MODES}
     return TiltSweep(part, np.asarray(factors, float), speeds, modes, held, superelement)

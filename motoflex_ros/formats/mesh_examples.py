@@ -2,7 +2,7 @@
 (scikit-fem's structured mesh constructors) written with meshio in every format the mesh
 reader takes, with its node sets in each format's own way.
 
-Sets per format (what :mod:`motoflex_ros.structures.mesh_file` reads): Gmsh 2.2 physical groups
+Sets per format (what :mod:`motoflex_ros.formats.mesh_file` reads): Gmsh 2.2 physical groups
 (surface elements of the linear meshes, physical points of the quadratic ones), Abaqus
 ``*NSET``, Nastran ``SET1`` cards (named by number: the i-th set is ``str(i + 1)``), VTK point
 data flags.

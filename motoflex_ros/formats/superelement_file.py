@@ -19,11 +19,12 @@ The YAML (interface points in ``units``; the matrices in SI: N/m, N, N m/rad; kg
     placement: {origin: [0.6, 0.0, 0.36]}   # optional: O in the vehicle frame [m]
 
 Rows that belong to no interface node are the reduction's generalized (modal) coordinates. The
-superelement enters the bench and the vehicle like our own reductions: its matrices are the
-Craig-Bampton model (no reduction is made again), the clamps' rows are deleted for the bench.
+component read is a :class:`~motoflex_ros.structures.superelement_component.
+SuperelementComponent` (the numerical core's: it enters the bench and the vehicle like our own
+reductions); here is the file format: the schema, the checks of the Matrix Market files and of
+the matrices (ConfigError naming the file and the key), and the export.
 """
 import io
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -33,19 +34,13 @@ import scipy.sparse as sp
 from motoflex_ros.config import Field
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.files import atomic_write_bytes, atomic_write_text, missing_file_text
+from motoflex_ros.formats.mesh_component_file import mesh_component_name
+from motoflex_ros.formats.mesh_file import UNITS
 from motoflex_ros.input_pins import read_input
-from motoflex_ros.structures.assembly import AssembledStructure
-from motoflex_ros.structures.component_model import DEFAULT_DAMPING_RATIO, ComponentModel
-from motoflex_ros.structures.craig_bampton import (
-    F_MAX_HZ,
-    N_MODES,
-    CraigBamptonModel,
-    checked_damping_ratio,
-)
-from motoflex_ros.structures.mesh_file import UNITS
+from motoflex_ros.structures.craig_bampton import F_MAX_HZ, N_MODES
+from motoflex_ros.structures.superelement_component import SuperelementComponent
 
-__all__ = ["SuperelementComponent", "SUPERELEMENT_SCHEMA", "load_superelement_component",
-           "export_superelement"]
+__all__ = ["SUPERELEMENT_SCHEMA", "load_superelement_component", "export_superelement"]
 
 MAX_SIZE = 20_000  # reduced coordinates (dense matrices: 3.2 GB each at the limit)
 _POINT = Field("vec3", -1e4, 1e4)
@@ -70,62 +65,6 @@ SUPERELEMENT_SCHEMA = Field("mapping", fields={
         "loaded_end": Field("str"),
     }),
 })
-
-
-@dataclass(frozen=True, eq=False)
-class SuperelementComponent(ComponentModel):
-    """A component given as a reduced model: ``K``, ``M`` (dense, coordinates ordered clamps,
-    loaded end, other interface nodes (six each), then the generalized coordinates) and the
-    interface nodes' points ``points`` [m] (component frame)."""
-
-    name: str
-    K: np.ndarray
-    M: np.ndarray
-    points: np.ndarray
-    clamp_nodes: tuple
-    loaded_end: int
-    interface_nodes: tuple
-    node_names: dict
-    origin: np.ndarray
-    source: str = ""
-    damping_ratio: object = DEFAULT_DAMPING_RATIO
-
-    kind = "superelement"
-    singular_hint = "check the superelement's matrices and its interface rows"
-
-    @property
-    def node_xyz(self):
-        """The interface nodes, (n, 3) [m] in the component frame."""
-        return np.asarray(self.points, float)
-
-    @property
-    def elements(self):
-        """Lines from each clamp to the loaded end (there is no mesh to draw)."""
-        return np.array([(c, self.loaded_end) for c in self.clamp_nodes], int)
-
-    def assembled(self):
-        """The reduced matrices as the 'full' model; ``expand`` gives the interface nodes' DOFs
-        (the generalized coordinates move no node)."""
-        n, nb = self.K.shape[0], 6 * len(self.points)
-        expand = sp.csr_matrix((np.ones(nb), (np.arange(nb), np.arange(nb))), shape=(nb, n))
-        return AssembledStructure(K=sp.csc_matrix(self.K), M=sp.csc_matrix(self.M),
-                                  expand=expand, free_index=np.arange(nb))
-
-    def craig_bampton(self, n_modes=N_MODES, f_max_hz=F_MAX_HZ, zeta=None):
-        """The superelement's own reduction (``n_modes`` and ``f_max_hz`` do not apply: its
-        generalized coordinates are what the FE tool kept). Returns (CraigBamptonModel,
-        AssembledStructure)."""
-        nb, n = 6 * len(self.points), self.K.shape[0]
-        modal = np.arange(nb, n)
-        freq = np.sqrt(np.maximum(sla.eigh(self.K[np.ix_(modal, modal)],
-                                           self.M[np.ix_(modal, modal)],
-                                           eigvals_only=True), 0.0)) / (2 * np.pi) \
-            if len(modal) else np.zeros(0)
-        zeta = self.damping_ratio if zeta is None else zeta
-        cb = CraigBamptonModel(M=self.M, K=self.K, transform=np.eye(n), boundary=np.arange(nb),
-                               frequencies_hz=freq, zeta=checked_damping_ratio(zeta))
-        self._check_damping_count(cb)
-        return cb, self.assembled()
 
 
 _ENTRIES = {"general": lambda n: n * n, "symmetric": lambda n: n * (n + 1) // 2,
@@ -239,7 +178,6 @@ def _check_physical(k, m, n_clamped, files, source):
 
 def load_superelement_component(cfg, path, damping_ratio):
     """SuperelementComponent from a validated SUPERELEMENT_SCHEMA configuration."""
-    from motoflex_ros.structures.mesh_component import mesh_component_name
     source = str(path)
     spec = cfg["superelement"]
     base = Path(path).parent

@@ -1,4 +1,5 @@
-"""The bench file of a real rig (YAML): what the measured identification needs besides the data.
+"""The bench file of a real rig (YAML): what the measured identification needs besides the data,
+read into a :class:`~motoflex_ros.identify.physical_bench.PhysicalBench`.
 
 A physical bench has no finite-element model: the identification of measurements
 (:mod:`motoflex_ros.identify.measured`) takes the geometry from this file, with exactly these
@@ -20,42 +21,34 @@ clamp frame is the paper's component frame (Passigato et al. 2023, Fig. 2): clam
 origin O, the component's plane x-z, the lateral load along y. ``markers``: the marker offsets
 from q0 with the component unloaded, in the order of the data's markers, or ``from_data``:
 their mean positions over the samples before the first load (a quiet lead-in of at least
-:data:`MIN_REFERENCE_FRAMES` frames). ``sensor.noise_m`` [m]: the marker noise (standard
-deviation per coordinate; used to tell a motion from noise, never for the intervals, which come
-from the scatter of the data); ``sensor.latency_s`` [s]: how much later than the capture a
-marker frame is stamped (CSV ``t``, message header stamps). ``carried``: what hangs from the
-loaded end in the vehicle (the front assembly's wheel carrier and wheel, the swingarm's
-wheel): the metric of the principal hinges (:mod:`motoflex_ros.identify.principal`); without
-it they are reported as not identified.
+:data:`~motoflex_ros.identify.physical_bench.MIN_REFERENCE_FRAMES` frames).
+``sensor.noise_m`` [m]: the marker noise (standard deviation per coordinate; used to tell a
+motion from noise, never for the intervals, which come from the scatter of the data);
+``sensor.latency_s`` [s]: how much later than the capture a marker frame is stamped (CSV ``t``,
+message header stamps). ``carried``: what hangs from the loaded end in the vehicle (the front
+assembly's wheel carrier and wheel, the swingarm's wheel): the metric of the principal hinges
+(:mod:`motoflex_ros.identify.principal`); without it they are reported as not identified.
 """
 import re
-from dataclasses import dataclass
 
 import numpy as np
 
 from motoflex_ros.config import Field, load_yaml, number, positive, shown, validate
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.identify.measurements import MIN_MARKERS
+from motoflex_ros.identify.physical_bench import (
+    MIN_ARM_M,
+    PhysicalBench,
+    check_marker_spread,
+)
 from motoflex_ros.identify.principal import CarriedInertia
 from motoflex_ros.inertia import check_inertia, inertia_matrix
 
-__all__ = ["BenchFile", "load_bench", "bench_from_dict", "check_marker_spread", "FROM_DATA",
-           "MIN_REFERENCE_FRAMES", "MIN_MARKERS", "MAX_NOISE_M", "MIN_ARM_M",
-           "MIN_MARKER_SPREAD_M", "BENCH_SCHEMA"]
+__all__ = ["load_bench", "bench_from_dict", "FROM_DATA", "MAX_NOISE_M", "BENCH_SCHEMA"]
 
 FROM_DATA = "from_data"
-MIN_MARKERS = 3
-MIN_REFERENCE_FRAMES = 10
-"""Frames before the first load that ``markers: from_data`` needs for the reference (their
-mean; its scatter enters the static intervals)."""
 MAX_NOISE_M = 1e-3  # as the virtual sensor's bound (motoflex_ros.bench.sensor.MAX_NOISE_M)
 MAX_SIZE_M = 10.0
-MIN_ARM_M = 1e-3
-"""Smallest distance [m] of q0 from the clamp in the x-z plane: the line O-q0 of eqs. (3)-(7)
-must be defined."""
-MIN_MARKER_SPREAD_M = 1e-3
-"""Smallest spread [m] of the markers across their best-fit line (second singular value of the
-centred positions), as a protocol's markers (:data:`motoflex_ros.bench.protocols.
-MIN_MARKER_SPREAD_M`): collinear markers leave the rotation about their line unobserved."""
 _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 BENCH_SCHEMA = Field("mapping", fields={
@@ -82,39 +75,6 @@ BENCH_SCHEMA = Field("mapping", fields={
 })
 
 
-@dataclass(frozen=True)
-class BenchFile:
-    """A validated bench file: name, q0 [m], marker offsets (n, 3) [m] or None (from the data),
-    noise_m [m], latency_s [s], the file it came from and the CarriedInertia (or None)."""
-
-    name: str
-    q0: np.ndarray
-    offsets: object
-    noise_m: float
-    latency_s: float
-    source: str = "bench file"
-    carried: object = None
-
-    @property
-    def n_markers(self):
-        """Number of markers the file gives (None: taken from the data)."""
-        return None if self.offsets is None else len(self.offsets)
-
-
-def check_marker_spread(points, source, key, what="the markers"):
-    """ConfigError unless the centred ``points`` (n, 3) [m] span a plane (second singular value
-    at least MIN_MARKER_SPREAD_M); returns the spread [m]."""
-    points = np.asarray(points, float)
-    spread = float(np.linalg.svd(points - points.mean(axis=0), compute_uv=False)[1])
-    if not spread >= MIN_MARKER_SPREAD_M:
-        raise ConfigError(source, key, f"{what} are collinear or coincident (second singular "
-                                       f"value of the centred positions {spread:.3g} m, allowed "
-                                       f">= {MIN_MARKER_SPREAD_M:g} m); the rotation about "
-                                       f"their line cannot be measured: place at least three "
-                                       f"markers that span a plane")
-    return spread
-
-
 def _markers(value, source):
     if value == FROM_DATA:
         return None
@@ -133,8 +93,8 @@ def _markers(value, source):
 
 
 def bench_from_dict(data, source="bench file"):
-    """BenchFile of a mapping with the bench file's keys (validated; ConfigError naming the
-    source and the key)."""
+    """PhysicalBench of a mapping with the bench file's keys (validated; ConfigError naming
+    the source and the key)."""
     data = validate(data, BENCH_SCHEMA, source)
     if not _NAME.match(data["bench"]):
         raise ConfigError(source, "bench", f"'{data['bench']}' is not a name: a letter, then "
@@ -146,7 +106,7 @@ def bench_from_dict(data, source="bench file"):
         raise ConfigError(source, "loaded_end", f"q0 {q0.tolist()} is {arm:.3g} m from the "
                                                 f"clamp in the x-z plane, allowed >= "
                                                 f"{MIN_ARM_M:g} m (the line O-q0 of eqs. 3-7)")
-    return BenchFile(data["bench"], q0, _markers(data["markers"], source),
+    return PhysicalBench(data["bench"], q0, _markers(data["markers"], source),
                      data["sensor"]["noise_m"], data["sensor"]["latency_s"], str(source),
                      _carried(data["carried"], source))
 
@@ -162,6 +122,7 @@ def _carried(data, source):
 
 
 def load_bench(path):
-    """Load and validate a bench file (YAML) into a :class:`BenchFile`."""
+    """Load and validate a bench file (YAML) into a
+    :class:`~motoflex_ros.identify.physical_bench.PhysicalBench`."""
     return bench_from_dict(load_yaml(path), str(path))
 

@@ -2,39 +2,39 @@
 
 Reads ``config/components/*.yaml`` (validated on load with :mod:`motoflex_ros.config`) and hands
 each kind to its builder: :func:`~motoflex_ros.structures.component_model.tube_component`,
-:func:`~motoflex_ros.structures.component_schema.structure_from_config`,
-:func:`~motoflex_ros.structures.mesh_component.load_mesh_component` and
-:func:`~motoflex_ros.structures.superelement_file.load_superelement_component`. It stands above
-all of them, so none of them imports it (no import cycle).
+:func:`~motoflex_ros.structures.component_schema.structure_from_config` (both in the core, from
+the parsed file), :func:`~motoflex_ros.formats.mesh_component_file.load_mesh_component` and
+:func:`~motoflex_ros.formats.superelement_file.load_superelement_component` (the mesh and the
+matrix files, read here at the edge). The numerical core takes the built component: the CLI,
+the nodes, the launcher and the report load it with :func:`load_component`.
 """
+import functools
 from dataclasses import replace
 from pathlib import Path
 
-from motoflex_ros.config import Field, load_yaml, number, resolve_config, validate
-from motoflex_ros.errors import ConfigError
-from motoflex_ros.limits import check_limit
-from motoflex_ros.structures.beam import Material
-from motoflex_ros.structures.component_model import (
-    DEFAULT_DAMPING_RATIO,
-    Component,
-    tube_component,
-)
-from motoflex_ros.structures.component_schema import (
-    STRUCTURE_SCHEMA,
-    TUBE_SCHEMA,
-    structure_from_config,
-)
-from motoflex_ros.structures.mesh_component import (
+from motoflex_ros.config import load_yaml, resolve_config, validate
+from motoflex_ros.errors import ConfigError, MotoflexError
+from motoflex_ros.formats.mesh_component_file import (
     MESH_SCHEMA,
     load_mesh_component,
     mesh_component_name,
 )
-from motoflex_ros.structures.superelement_file import (
+from motoflex_ros.formats.superelement_file import (
     SUPERELEMENT_SCHEMA,
     load_superelement_component,
 )
+from motoflex_ros.limits import check_limit
+from motoflex_ros.structures.beam import Material
+from motoflex_ros.structures.component_model import Component, tube_component
+from motoflex_ros.structures.component_schema import (
+    STRUCTURE_SCHEMA,
+    TUBE_SCHEMA,
+    damping_ratio_setting,
+    structure_from_config,
+)
 
-__all__ = ["load_component", "component_name", "load_component_config", "damping_ratio_setting"]
+__all__ = ["load_component", "load_components", "component_name", "load_component_config",
+           "shipped_model"]
 
 
 def load_component_config(path):
@@ -65,7 +65,7 @@ def load_component(name_or_file):
     """Load a shipped component by name ('frame', 'tube', ...) or a YAML file path (a beam
     structure, the tube, ``component: mesh``: a
     :class:`~motoflex_ros.structures.mesh_component.MeshComponent`, or ``component:
-    superelement``: a :class:`~motoflex_ros.structures.superelement_file.
+    superelement``: a :class:`~motoflex_ros.structures.superelement_component.
     SuperelementComponent`)."""
     path = resolve_config("components", name_or_file)
     cfg = load_component_config(path)
@@ -84,6 +84,11 @@ def load_component(name_or_file):
     return replace(comp, source=str(Path(path)), damping_ratio=damping)
 
 
+def load_components(names_or_files):
+    """[component] of each shipped name or YAML file, in order (:func:`load_component`)."""
+    return [load_component(given) for given in names_or_files]
+
+
 def component_name(name_or_file):
     """The name a component (shipped name or YAML file) goes by, from its file alone (no model
     is built): ``component`` of a beam file, ``name`` (or the file's stem) of a mesh file."""
@@ -94,13 +99,13 @@ def component_name(name_or_file):
     return cfg["component"]
 
 
-def damping_ratio_setting(value, source):
-    """The ``damping_ratio`` key [-]: None (default 1 %), a number in [0, 1) or a non-empty list
-    of them (one per mode of the clamped reduced model); ConfigError naming file and key."""
-    if value is None:
-        return DEFAULT_DAMPING_RATIO
-    ratio = number(0.0, 1.0, open_high=True)
-    if isinstance(value, list):
-        return tuple(validate(value, Field("list", min_items=1, item=ratio), source,
-                              "damping_ratio"))
-    return validate(value, ratio, source, "damping_ratio")
+@functools.cache
+def shipped_model(component):
+    """(Component, ReducedComponent) of a shipped component name or a component YAML file (the
+    clamped reduced model the component simulator integrates, as
+    :mod:`motoflex_ros.bench.replayed_loads` re-runs it), or None when there is none."""
+    try:
+        comp = load_component(component)
+        return comp, comp.clamped_reduced()
+    except (MotoflexError, OSError, KeyError, ValueError):
+        return None
