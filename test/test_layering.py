@@ -5,7 +5,9 @@ grimp (under import-linter) reads every import statement of the package, the one
 functions too, so a lazy import cannot hide a reversed dependency or a cycle. The former ad-hoc
 rules of this file are contracts now: nodes below the CLI, the vehicle independent of the
 identification, structures below vehicle and study (the layers contract) and the record layer
-reaching no engine but through the bench replay (a forbidden contract).
+reaching no engine but through the bench replay (a forbidden contract). The numerical core
+reads no file format (issue 25, point 2): it imports neither ``motoflex_ros.formats`` nor
+meshio (a forbidden contract; the layers forbid formats too).
 """
 import shutil
 import subprocess
@@ -53,6 +55,13 @@ def test_the_import_contract_is_kept():
     # the core importing a middleware library
     ("identify/peaks.py", "def _middleware():\n    import rclpy\n",
      "motoflex_ros.identify.peaks -> rclpy"),
+    # the core reading a file format: the bench loading its component by name again
+    ("bench/offline_campaign.py",
+     "def _by_name():\n    from motoflex_ros.formats.component_file import load_component\n",
+     "motoflex_ros.bench.offline_campaign -> motoflex_ros.formats.component_file"),
+    # ... or the structures reading a mesh file themselves
+    ("structures/mesh_component.py", "def _reader():\n    import meshio\n",
+     "motoflex_ros.structures.mesh_component -> meshio"),
 ])
 def test_the_contract_catches_a_reversed_import(tmp_path, module, injected, broken):
     """A copy of the package with one import added at the end of one module (inside a function,
