@@ -39,6 +39,7 @@ from motoflex_ros.formats import mesh_file
 from motoflex_ros.formats.mesh_file import UNITS, read_mesh
 from motoflex_ros.inertia import check_inertia
 from motoflex_ros.limits import check_limit
+from motoflex_ros.structures.component_schema import DAMPING_FIELD
 from motoflex_ros.structures.mesh_component import MeshComponent, Spider, plane_rotation
 from motoflex_ros.structures.physical_ranges import (
     COMPONENT_SIZE_M,
@@ -64,8 +65,7 @@ MESH_SCHEMA = Field("mapping", fields={
     "component": Field("str", choices=("mesh",)),
     "name": Field("str", required=False, default=None),
     "description": Field("str", required=False, default=""),
-    "damping_ratio": Field("any", required=False, default=None,
-                           help="a number in [0, 1) or a list of them, one per mode"),
+    "damping_ratio": DAMPING_FIELD,
     "placement": Field("mapping", required=False, default=None, fields={
         "origin": Field("vec3", -COMPONENT_SIZE_M, COMPONENT_SIZE_M)}),
     "mesh": Field("mapping", fields={

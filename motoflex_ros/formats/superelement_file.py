@@ -37,6 +37,7 @@ from motoflex_ros.files import atomic_write_bytes, atomic_write_text, missing_fi
 from motoflex_ros.formats.mesh_component_file import mesh_component_name
 from motoflex_ros.formats.mesh_file import UNITS
 from motoflex_ros.input_pins import read_input
+from motoflex_ros.structures.component_schema import DAMPING_FIELD
 from motoflex_ros.structures.craig_bampton import F_MAX_HZ, N_MODES
 from motoflex_ros.structures.superelement_component import SuperelementComponent
 
@@ -49,8 +50,7 @@ SUPERELEMENT_SCHEMA = Field("mapping", fields={
     "component": Field("str", choices=("superelement",)),
     "name": Field("str", required=False, default=None),
     "description": Field("str", required=False, default=""),
-    "damping_ratio": Field("any", required=False, default=None,
-                           help="a number in [0, 1) or a list of them, one per mode"),
+    "damping_ratio": DAMPING_FIELD,
     "placement": Field("mapping", required=False, default=None, fields={
         "origin": Field("vec3", -10.0, 10.0)}),
     "superelement": Field("mapping", fields={

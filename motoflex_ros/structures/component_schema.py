@@ -23,7 +23,8 @@ from motoflex_ros.structures.physical_ranges import (
     PART_MASS_MAX_KG,
 )
 
-__all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "structure_from_config", "damping_ratio_setting"]
+__all__ = ["TUBE_SCHEMA", "STRUCTURE_SCHEMA", "DAMPING_FIELD", "structure_from_config",
+           "damping_ratio_setting"]
 
 # Physical ranges of every number (SI); those the mesh schema shares are in physical_ranges.
 SECTION_SIZE_M = (1e-4, 2.0)  # outer diameter, width, height [m]
@@ -38,14 +39,15 @@ _MATERIAL = Field("mapping", fields={
 _POINT = Field("vec3", -COMPONENT_SIZE_M, COMPONENT_SIZE_M)
 _DIRECTION = Field("vec3", -1e3, 1e3, required=False, default=None)
 
-# modal damping ratio of the clamped reduced model: checked by damping_ratio_setting
-_DAMPING = Field("any", required=False, default=None,
-                 help="a number in [0, 1) or a list of them, one per mode")
+# modal damping ratio of the clamped reduced model (every component schema's key): checked by
+# damping_ratio_setting
+DAMPING_FIELD = Field("any", required=False, default=None,
+                      help="a number in [0, 1) or a list of them, one per mode")
 
 TUBE_SCHEMA = Field("mapping", fields={
     "component": Field("str", choices=("tube",)),
     "description": Field("str", required=False, default=""),
-    "damping_ratio": _DAMPING,
+    "damping_ratio": DAMPING_FIELD,
     "tube": Field("mapping", fields={
         "length": number(1e-3, COMPONENT_SIZE_M, help="length [m]"),
         "outer_diameter": number(*SECTION_SIZE_M, help="outer diameter [m]"),
@@ -68,7 +70,7 @@ _NONNEG3 = Field("vec3", 0.0, SPRING_MAX)
 STRUCTURE_SCHEMA = Field("mapping", fields={
     "component": Field("str"),
     "description": Field("str", required=False, default=""),
-    "damping_ratio": _DAMPING,
+    "damping_ratio": DAMPING_FIELD,
     "placement": Field("mapping", fields={"origin": _POINT}),
     "materials": Field("mapping", extra=True, item=_MATERIAL, fields={}),
     "sections": Field("mapping", extra=True, item=_SECTION, fields={}),
