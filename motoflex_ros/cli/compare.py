@@ -132,7 +132,7 @@ def _principal_hinges(result):
 
 
 def _load(path):
-    from motoflex_ros.identify.results import load_results_file
+    from motoflex_ros.formats.json_yaml import load_results_file
     data = load_results_file(path)
     for name, result in data.items():
         if not isinstance(result, dict) or "static" not in result:

@@ -24,7 +24,7 @@ def identification_results(path=None, components=None, seed=0, vehicle="touring"
     Components; None: the shipped motorcycle components), the principal hinges in the metric of
     what ``vehicle``'s bodies hang from each loaded end."""
     if path:
-        from motoflex_ros.identify.results import load_results_file
+        from motoflex_ros.formats.json_yaml import load_results_file
         return load_results_file(Path(path))
     from motoflex_ros.bench.offline_campaign import identify_components
     from motoflex_ros.cli.output import progress_bar

@@ -1,6 +1,7 @@
 """File formats at the edge: what the numerical core computes, written to and read from files.
 
-- :mod:`.json_yaml`: results as plain JSON (``--json``, ``--out``) or YAML, written atomically.
+- :mod:`.json_yaml`: results as plain JSON (``--json``, ``--out``) or YAML, written atomically
+  and read back (``--identified``, ``result_file``).
 - :mod:`.measured_csv`: the measured CSV of a real rig (load and markers per row), read into
   :class:`motoflex_ros.identify.measurements.Measurements` and written from them.
 - :mod:`.bench_file`: a real rig's bench file (YAML: q0, markers, sensor, carried inertia), read

@@ -1,8 +1,10 @@
-"""Results as a file: JSON, or YAML for a .yaml/.yml path, written atomically.
+"""Results as a file: JSON, or YAML for a .yaml/.yml path, written atomically, and read back.
 
 One writer for ``motoflex identify --out`` and the identification node's ``result_file``, so
 their files are equal. Values become plain JSON values first (:func:`to_jsonable`), which the
-CLI's ``--json`` output uses too.
+CLI's ``--json`` output uses too. :func:`load_results_file` reads such a file into the core's
+:class:`~motoflex_ros.identify.results.ResultsFile` (``--identified``, the vehicle simulator's
+``result_file``).
 """
 import json
 import math
@@ -11,9 +13,12 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from motoflex_ros.config import load_yaml
+from motoflex_ros.errors import ConfigError
 from motoflex_ros.files import atomic_write_text
+from motoflex_ros.identify.results import ResultsFile
 
-__all__ = ["to_jsonable", "json_text", "write_results"]
+__all__ = ["to_jsonable", "json_text", "write_results", "load_results_file"]
 
 
 def to_jsonable(obj):
@@ -50,3 +55,17 @@ def write_results(path, results):
     else:
         text = json_text(results)
     return atomic_write_text(path, text)
+
+
+def load_results_file(path, components=()):
+    """ResultsFile of a YAML/JSON file of ``motoflex identify --out``; ConfigError naming the
+    file when it is missing, not YAML/JSON, not a mapping or lacks one of ``components``."""
+    data = load_yaml(path)
+    if not isinstance(data, dict):
+        raise ConfigError(path, "", "expected a mapping {component: results}")
+    missing = [name for name in components if name not in data]
+    if missing:
+        raise ConfigError(path, missing[0], f"missing: no results of component "
+                                            f"'{missing[0]}' (the file has "
+                                            f"{', '.join(map(str, data)) or 'none'})")
+    return ResultsFile(data, path)

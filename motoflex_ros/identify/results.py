@@ -12,8 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.config import load_yaml
-from motoflex_ros.errors import ConfigError, ProtocolError
+from motoflex_ros.errors import ProtocolError
 from motoflex_ros.identify.axis_model import AxisModel
 from motoflex_ros.identify.decay import match_pole
 from motoflex_ros.identify.peaks import axis_of_pose, unwrap_axis, wrap_axis
@@ -25,7 +24,7 @@ from motoflex_ros.lumped_stiffness.decomposition import decompose_stiffness, spl
 
 __all__ = ["AxisModel", "ComponentIdentification", "identify_component", "static_model",
            "mode_model", "harmonic_axis", "split_model", "check_positive_k", "MEASURED_KEY",
-           "ResultsFile", "load_results_file", "results_source", "MODEL_TESTS", "RESULT_KEYS"]
+           "ResultsFile", "results_source", "MODEL_TESTS", "RESULT_KEYS"]
 
 MODEL_TESTS = ("static", "torsion", "bending")
 """Tests the identification needs, by name: eqs. (8)-(12) use the static test and the harmonic
@@ -41,25 +40,12 @@ was measured and found (tests, counts, reference); no test may be called so eith
 
 class ResultsFile(dict):
     """Identification results ({component: result dict}) that remember where they came from,
-    so that an error about a value can name the file."""
+    so that an error about a value can name the file (read by
+    :func:`motoflex_ros.formats.json_yaml.load_results_file`)."""
 
     def __init__(self, data, source):
         super().__init__(data)
         self.source = str(source)
-
-
-def load_results_file(path, components=()):
-    """ResultsFile of a YAML/JSON file of ``motoflex identify --out``; ConfigError naming the
-    file when it is missing, not YAML/JSON, not a mapping or lacks one of ``components``."""
-    data = load_yaml(path)
-    if not isinstance(data, dict):
-        raise ConfigError(path, "", "expected a mapping {component: results}")
-    missing = [name for name in components if name not in data]
-    if missing:
-        raise ConfigError(path, missing[0], f"missing: no results of component "
-                                            f"'{missing[0]}' (the file has "
-                                            f"{', '.join(map(str, data)) or 'none'})")
-    return ResultsFile(data, path)
 
 
 def results_source(identified):

@@ -67,7 +67,7 @@ class VehicleSimulatorNode(RigNode):
         from motoflex_ros.config import resolve_config
         from motoflex_ros.errors import ConfigError
         from motoflex_ros.formats.component_file import load_component
-        from motoflex_ros.identify.results import load_results_file
+        from motoflex_ros.formats.json_yaml import load_results_file
         from motoflex_ros.vehicle.model import load_vehicle
         super().__init__()
         p = self.params
