@@ -116,7 +116,7 @@ def _poll(browser, limit_s, done):
     deadline = time.monotonic() + limit_s
     png = browser.screenshot()
     while not done(png) and time.monotonic() < deadline:
-        time.sleep(2.0)
+        time.sleep(0.5)
         png = browser.screenshot()
     return png
 
