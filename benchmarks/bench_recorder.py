@@ -26,7 +26,8 @@ PUBLISHER = r"""
 import sys, time, rclpy, rclpy.duration
 from geometry_msgs.msg import WrenchStamped
 from rclpy.serialization import serialize_message
-from motoflex_ros.nodes.runtime import publish_patiently, reliable_qos
+from motoflex_ros.nodes.qos_profiles import reliable_qos
+from motoflex_ros.nodes.transport import publish_patiently
 rclpy.init()
 node = rclpy.create_node("bench_publisher")
 topics, n = sys.argv[1].split(","), int(sys.argv[2])

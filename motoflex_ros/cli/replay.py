@@ -73,7 +73,7 @@ def run(args):
     if args.identify:
         return _identify(info, rate, args.identify)
     from motoflex_ros.nodes.bag_replay import BagReplay
-    from motoflex_ros.nodes.runtime import run_node
+    from motoflex_ros.nodes.node_main import run_node
     domain = os.environ.get("ROS_DOMAIN_ID", "").strip() or "0 (unset)"
     print(f"replaying {info.path}: {info.message_count} messages at rate {rate:g} on "
           f"ROS_DOMAIN_ID {domain}", flush=True)

@@ -10,8 +10,10 @@ from motoflex_ros.launcher.graph import NodeDied
 from motoflex_ros.launcher.interrupts import raise_if_interrupted
 from motoflex_ros.launcher.run_failures import pacer_failed, peer_room_problem
 from motoflex_ros.nodes.endpoints import GraphWatch, InputGuard
-from motoflex_ros.nodes.runtime import PROGRESS_TOPIC, READY_TOPIC, FastSpinner, latched_qos
+from motoflex_ros.nodes.interfaces import PROGRESS_TOPIC, READY_TOPIC
+from motoflex_ros.nodes.qos_profiles import latched_qos
 from motoflex_ros.nodes.stamps import time_ns
+from motoflex_ros.nodes.transport import spinner
 from motoflex_ros.progress import progress_bar
 
 __all__ = ["Monitor"]
@@ -38,7 +40,7 @@ class Monitor(Node):
         for topic, msg_type in collect:
             self.create_subscription(msg_type, topic, self.collected[topic].append,
                                      latched_qos())
-        self.spinner = FastSpinner(self)
+        self.spinner = spinner(self)
 
     def spin(self, timeout_s):
         """Handle what arrives within ``timeout_s`` [s] (the count); look for foreign

@@ -15,27 +15,13 @@ import numpy as np
 from geometry_msgs.msg import Pose, PoseArray, PoseStamped, WrenchStamped
 from std_msgs.msg import String
 
-from motoflex_ros.nodes.cdr import (
-    is_end_marker,
-    phase_cdr,
-    points_cdr,
-    sample_from_phase,
-    wrench_cdr,
-    wrench_values,
-)
-from motoflex_ros.nodes.result_messages import mode_series, mode_statuses, results_from_statuses
-from motoflex_ros.nodes.stamps import clock_msg, seconds_to_ns, time_msg
+from motoflex_ros.nodes.cdr import wrench_values
+from motoflex_ros.nodes.stamps import time_msg
 from motoflex_ros.spatial import quaternion_xyzw
 
 __all__ = ["wrench_msg", "phase_msg", "points_msg", "points_from_msg", "pose_msg",
            "joint_state_msg", "poses_msg", "axis_marker", "transform_msg",
-           "structure_markers", "qos_dict",
-           # names of old, for the nodes that import them from here (load_actuator,
-           # sim_clock, component_simulator, vehicle_simulator); new code imports them from
-           # .stamps, .cdr and .result_messages
-           "seconds_to_ns", "clock_msg", "is_end_marker", "phase_cdr", "points_cdr",
-           "sample_from_phase", "wrench_cdr", "mode_series", "mode_statuses",
-           "results_from_statuses"]
+           "structure_markers", "qos_dict"]
 
 
 def wrench_msg(ns, frame_id, load):

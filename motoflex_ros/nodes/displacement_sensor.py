@@ -19,7 +19,8 @@ from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.cdr import is_end_marker, points_cdr, pose_cdr, sample_from_phase
 from motoflex_ros.nodes.interfaces import PHASE_IN, RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.message_checks import BenchInputs
-from motoflex_ros.nodes.runtime import RigNode, run_node
+from motoflex_ros.nodes.node_main import run_node
+from motoflex_ros.nodes.rig_node import RigNode
 
 __all__ = ["DisplacementSensorNode", "main"]
 

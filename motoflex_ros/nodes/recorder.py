@@ -28,9 +28,11 @@ import time
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.cdr import clock_ns_from_cdr
 from motoflex_ros.nodes.conversions import qos_dict
-from motoflex_ros.nodes.interfaces import RELIABLE, RIG_TOPICS, Topic
+from motoflex_ros.nodes.interfaces import RELIABLE, RIG_TOPICS, Topic, message_class
+from motoflex_ros.nodes.node_main import run_node
 from motoflex_ros.nodes.params import Param, ParameterError
-from motoflex_ros.nodes.runtime import RigNode, message_class, reliable_qos, run_node
+from motoflex_ros.nodes.qos_profiles import reliable_qos
+from motoflex_ros.nodes.rig_node import RigNode
 from motoflex_ros.record.log_time import SimLogTime
 from motoflex_ros.record.mcap_bag import BagWriter
 from motoflex_ros.record.tf_bag import LIVE_TYPE as TF_LIVE_TYPE

@@ -10,7 +10,8 @@ from geometry_msgs.msg import Point
 from visualization_msgs.msg import Marker, MarkerArray
 
 from motoflex_ros.frames import body_frame
-from motoflex_ros.nodes.conversions import joint_state_msg, time_msg
+from motoflex_ros.nodes.conversions import joint_state_msg
+from motoflex_ros.nodes.stamps import time_msg
 from motoflex_ros.vehicle.outline import body_attachments
 
 __all__ = ["PHASE_CODES", "PHASE_VALUE_NAMES", "phase_values_msg", "motorcycle_markers"]

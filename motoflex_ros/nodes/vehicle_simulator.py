@@ -25,11 +25,13 @@ from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.frames import road_transform
 from motoflex_ros.nodes.interfaces import LATCHED, RIG_TOPICS, TF_STATIC, Topic
 from motoflex_ros.nodes.mode_publisher import MODE_TOPICS, ModePublisher
+from motoflex_ros.nodes.node_main import run_node
 from motoflex_ros.nodes.pacing import Waiting
 from motoflex_ros.nodes.params import Param, ParameterError
+from motoflex_ros.nodes.qos_profiles import latched_qos
 from motoflex_ros.nodes.result_messages import results_from_statuses
+from motoflex_ros.nodes.rig_node import RigNode
 from motoflex_ros.nodes.road_publisher import ROAD_PAUSE_S, ROAD_TOPICS, RoadPublisher
-from motoflex_ros.nodes.runtime import RigNode, latched_qos, run_node
 from motoflex_ros.nodes.stamps import seconds_to_ns, time_ns
 from motoflex_ros.nodes.tf import TfPublisher
 

@@ -23,14 +23,15 @@ from motoflex_ros.identify.results import identify_component
 from motoflex_ros.nodes.bench_graph import SampleJoin, campaign_setups
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.cdr import is_end_marker, sample_from_phase
+from motoflex_ros.nodes.interfaces import ACK_TOPIC
 from motoflex_ros.nodes.load_actuator import may_end_test
 from motoflex_ros.nodes.message_checks import BenchInputs
+from motoflex_ros.nodes.qos_profiles import latched_qos
 from motoflex_ros.nodes.result_messages import (
     IDENTIFIED_UNITS,
     identification_statuses,
     identified_series,
 )
-from motoflex_ros.nodes.runtime import ACK_TOPIC, latched_qos
 from motoflex_ros.nodes.stamps import time_msg
 
 __all__ = ["VirtualIdentification", "ComponentStream", "DONE"]
