@@ -15,6 +15,7 @@ from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.launcher.graph import NodeSpec
 from motoflex_ros.launcher.run import RunFailed, run_graph, work_folder
 from motoflex_ros.record.tf_bag import TF_LIVE, TF_STATIC_LIVE
+from motoflex_ros.vehicle.mode_names import MODE_NAMES
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
            "bench_components",
@@ -41,10 +42,9 @@ class CampaignOutcome:
     """{absolute path: SHA-256} of every input file the run read (pinned for the run)."""
 
 
-MODES = ("weave", "wobble", "capsize")
 VEHICLE_TOPICS = ("/vehicle/eigenvalues", "/vehicle/joint_states", "/vehicle/bodies",
                   "/vehicle/joint_axes", "/vehicle/geometry", "/vehicle/modes/speed_kmh",
-                  *(f"/vehicle/modes/{m}/{q}" for m in MODES for q in ("frequency_hz",
+                  *(f"/vehicle/modes/{m}/{q}" for m in MODE_NAMES for q in ("frequency_hz",
                                                                       "real_part")))
 
 VEHICLE_COMPONENTS = MOTORCYCLE_COMPONENTS

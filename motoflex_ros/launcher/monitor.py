@@ -15,6 +15,7 @@ from motoflex_ros.nodes.qos_profiles import latched_qos
 from motoflex_ros.nodes.stamps import time_ns
 from motoflex_ros.nodes.transport import spinner
 from motoflex_ros.progress import progress_bar
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["Monitor"]
 
@@ -103,9 +104,9 @@ class Monitor(Node):
         """Bring the bar to what the graph did (tests finished, or simulated time)."""
         if tests_total:
             done = min(sum(self.tests_done.values()), tests_total)
-            bar.set_postfix_str(f"simulated {self.sim_ns / 1e9:.1f} s", refresh=False)
+            bar.set_postfix_str(f"simulated {self.sim_ns / NS_PER_S:.1f} s", refresh=False)
         else:
-            done = round(self.sim_ns / 1e9, 3)
+            done = round(self.sim_ns / NS_PER_S, 3)
         if done != bar.n:
             bar.update(done - bar.n)
         elif tests_total:

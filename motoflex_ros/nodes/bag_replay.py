@@ -21,6 +21,7 @@ from motoflex_ros.nodes.rig_node import RigNode
 from motoflex_ros.nodes.stamps import seconds_to_ns
 from motoflex_ros.nodes.transport import publish_patiently
 from motoflex_ros.record.mcap_bag import bag_info, read_messages
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["BagReplay", "main"]
 
@@ -113,7 +114,7 @@ class BagReplay(RigNode):
         rate = self.params["rate"]
         if rate <= 0:
             return False
-        due = self.started + (log_time_ns - self.info.start_ns) / 1e9 / rate
+        due = self.started + (log_time_ns - self.info.start_ns) / NS_PER_S / rate
         wait = due - time.monotonic()
         if wait > 0:
             time.sleep(min(wait, 0.05))

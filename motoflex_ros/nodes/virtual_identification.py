@@ -33,6 +33,7 @@ from motoflex_ros.nodes.result_messages import (
     identified_series,
 )
 from motoflex_ros.nodes.stamps import time_msg
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["VirtualIdentification", "ComponentStream", "DONE"]
 
@@ -73,7 +74,7 @@ class ComponentStream:
         stamp_ns, points = self.checked.markers("markers/measured", data)
         settled = []
         for chunk in np.split(points, len(points) // n) if len(points) else []:
-            measurement = self.fitter.measurement(self.count, stamp_ns / 1e9, chunk)
+            measurement = self.fitter.measurement(self.count, stamp_ns / NS_PER_S, chunk)
             self.count += 1
             done = self.identifier.add_measurement(measurement)
             if done:
