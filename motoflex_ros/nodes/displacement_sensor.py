@@ -14,6 +14,7 @@ import numpy as np
 from geometry_msgs.msg import PoseArray, PoseStamped
 from std_msgs.msg import String
 
+from motoflex_ros.bench.sensor import MarkerSensor
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.cdr import is_end_marker, points_cdr, pose_cdr, sample_from_phase
@@ -43,7 +44,6 @@ class DisplacementSensorNode(RigNode):
     )
 
     def __init__(self):
-        from motoflex_ros.bench.sensor import MarkerSensor
         super().__init__()
         self.setups = campaign_setups(self.params)
         seed = self.params["seed"]

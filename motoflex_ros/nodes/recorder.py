@@ -25,6 +25,8 @@ the bag as /tf and /tf_static (tf2_msgs/msg/TFMessage: :mod:`motoflex_ros.record
 import sys
 import time
 
+from rclpy.qos import DurabilityPolicy
+
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.cdr import clock_ns_from_cdr
 from motoflex_ros.nodes.conversions import qos_dict
@@ -161,7 +163,6 @@ class Recorder(RigNode):
     @staticmethod
     def _qos_for(offered):
         """Reliable keep-all, transient local if every offered profile is (as rosbag2)."""
-        from rclpy.qos import DurabilityPolicy
         qos = reliable_qos()
         if all(p["durability"] == DurabilityPolicy.TRANSIENT_LOCAL.value for p in offered):
             qos.durability = DurabilityPolicy.TRANSIENT_LOCAL

@@ -7,6 +7,7 @@ the model's wheels); this module only builds messages.
 """
 import numpy as np
 from geometry_msgs.msg import Point
+from std_msgs.msg import Header
 from visualization_msgs.msg import Marker, MarkerArray
 
 from motoflex_ros.frames import body_frame
@@ -35,7 +36,6 @@ def phase_values_msg(ns, test_number, sample):
 
 
 def _header(ns, frame_id):
-    from std_msgs.msg import Header
     return Header(stamp=time_msg(ns), frame_id=frame_id)
 
 
