@@ -16,12 +16,14 @@ import numpy as np
 import pytest
 
 from motoflex_ros.report.published import meijaard2007_eigenvalues
-from motoflex_ros.report.tables import FACTORS, INDICES, QUANTITIES, VARIANTS
+from motoflex_ros.report.tables import INDICES, VARIANTS
 from motoflex_ros.structures.paper_tables import (
     COMPONENTS,
     paper_table1_eigenfrequencies,
     paper_table2_stiffness,
 )
+from motoflex_ros.study.accuracy import QUANTITIES
+from motoflex_ros.study.factorial import FACTORS
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"

@@ -20,10 +20,9 @@ from motoflex_ros.study.factorial import FACTORS
 
 __all__ = ["Cell", "Table", "components_table", "table1", "table2", "identification_table",
            "whipple_table", "accuracy_table", "anova_table", "pearson_table", "timings_table",
-           "percent_difference", "VARIANTS", "QUANTITIES", "INDICES", "FACTORS",
-           "DEVIATION_FLAG_PERCENT", "TIMING_FLOOR_S", "flagged_count", "SYMBOLS_NOTE",
-           "json_cell",
-           "paper_cell", "diff_cell", "ASSUMED_C_NOTE"]
+           "percent_difference", "VARIANTS", "INDICES", "DEVIATION_FLAG_PERCENT",
+           "TIMING_FLOOR_S", "flagged_count", "SYMBOLS_NOTE", "json_cell", "paper_cell",
+           "diff_cell", "ASSUMED_C_NOTE"]
 
 VARIANTS = ("state_of_the_art", "static", "torsion", "bending", "principal")
 INDICES = ("weave_low", "weave_high", "wobble_low", "wobble_high")
