@@ -13,13 +13,13 @@ import pytest
 import scipy.sparse.linalg as spla
 import yaml
 
-from motoflex_ros.structures.assembly import rigid_field
 from motoflex_ros.structures.beam import Material
 from motoflex_ros.structures.component_loader import load_component
 from motoflex_ros.structures.component_model import tube_component
 from motoflex_ros.structures.full_model import full_clamped_matrices, full_clamped_modes
 from motoflex_ros.structures.mesh_examples import box_mesh, tube_mesh, write_mesh
 from motoflex_ros.structures.solid import SolidBlock, assemble_solid
+from motoflex_ros.vehicle.superelement import rigid_field
 
 L, D, T = 0.6, 0.04, 0.002           # the validation tube of config/components/tube.yaml
 E, G, RHO = 2.1e11, 8.1e10, 7850.0

@@ -90,7 +90,7 @@ def test_nodes_identification_statuses_roundtrip():
     from diagnostic_msgs.msg import DiagnosticArray
 
     from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.formats.json_yaml import to_jsonable
+    from motoflex_ros.cli.output import to_jsonable
     from motoflex_ros.study.identified_variants import carried_inertias
     components, carried = carried_inertias(["swingarm"])   # with the principal hinges
     runs = identify_components(components, seed=0, carried=carried)

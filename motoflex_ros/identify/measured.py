@@ -41,7 +41,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motoflex_ros.identify.axis_model import AxisModel
 from motoflex_ros.identify.bench_file import MIN_REFERENCE_FRAMES, check_marker_spread
 from motoflex_ros.identify.decay import decay_poles, match_pole
 from motoflex_ros.identify.identifier import (
@@ -60,7 +59,9 @@ from motoflex_ros.identify.peaks import (
 )
 from motoflex_ros.identify.principal import MOMENT_TESTS, identify_principal, moment_axes
 from motoflex_ros.identify.results import (
+    LEVEL,
     MEASURED_KEY,
+    AxisModel,
     ComponentIdentification,
     check_positive_k,
     harmonic_axis,
@@ -69,7 +70,7 @@ from motoflex_ros.identify.results import (
     static_model,
 )
 from motoflex_ros.identify.segmentation import find_tests
-from motoflex_ros.identify.uncertainty import LEVEL, interval, mean_and_covariance, propagate
+from motoflex_ros.identify.uncertainty import interval, mean_and_covariance, propagate
 
 __all__ = ["MeasuredIdentification", "identify_measured", "fit_poses", "label_axis",
            "TREND_T", "DECAY_SWING_FACTOR", "RESONANCE_LAG_DEG", "RIGID_FACTOR"]
