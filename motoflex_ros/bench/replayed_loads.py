@@ -27,10 +27,10 @@ from motoflex_ros.bench.actuator import LATERAL_WRENCH, LoadSample, wrench_ampli
 from motoflex_ros.bench.response import ComponentSimulator
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.structures import load_component
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["ReplayedLoads", "recorded_samples", "replayed_displacements", "shipped_model"]
 
-NS_PER_S = 1_000_000_000
 
 
 @dataclass(frozen=True)
