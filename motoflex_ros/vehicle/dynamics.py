@@ -21,7 +21,8 @@ from motoflex_ros.vehicle.kinematics import compile_tree, coordinate_names_of, f
 from motoflex_ros.vehicle.loops import loop_rows
 
 __all__ = ["VehicleSystem", "build_system", "bind_elements", "residual", "positions",
-           "dependent_speeds", "constraint_matrix", "generalized_force_residual"]
+           "dependent_speeds", "constraint_matrix", "generalized_force_residual",
+           "KinematicState", "kinematic_state"]
 
 _NEWTON_STEPS = 3
 _LOOP_NEWTON_STEPS = 6      # loop closure is nonlinear in the joint angles away from x = 0
@@ -307,28 +308,53 @@ def positions(system, x, newton_steps=None):
     return _solve_positions(system, q, newton_steps)
 
 
-def residual(system, xdot, x, v, applied=None, q=None, G=None):
-    """Residual R(x', x; v) of the equations of motion (module docstring); v [m/s] > 0.
+@dataclass(frozen=True)
+class KinematicState:
+    """What the residual needs of a state x besides x': coordinates q, speeds u, frame
+    states, contact states and the velocity rows G with their bias (G u' + bias = 0)."""
 
-    applied: optional generalised forces on the coordinates (e.g. a steer torque [N m] on the
-    steer joint's entry), subtracted like every applied force. q: the coordinates at x when
-    already known (``positions(system, x)``), e.g. for many x' at one x; G: the velocity
-    rows at that q when already known (:func:`constraint_matrix`).
-    """
+    q: np.ndarray
+    u: np.ndarray
+    frames: list
+    contacts: list
+    G: np.ndarray
+    bias: np.ndarray
+
+
+def kinematic_state(system, x, v, q=None, G=None):
+    """KinematicState at the state x and forward speed v [m/s]; q, G as in :func:`residual`.
+    The residual is linear in x' at a fixed x: many x' at one x (the columns of E in the
+    linearization) share one KinematicState."""
     n = len(system.tree.coordinates)
     nq, nu = len(system.indep_pos), len(system.indep_speed)
-    dtype = np.result_type(xdot, x, float)
     q = positions(system, x) if q is None else q
-    known = np.zeros(n, dtype)
+    known = np.zeros(n, np.result_type(x, float))
     if system.model.base == "floating":
         known[0] = v
     known[list(system.indep_speed)] = x[nq:nq + nu]
     u = dependent_speeds(system, q, known) if G is None else _solve_dependent(system, G, known)
     frames, contacts = _contacts(system, q, u)
     G, bias = _constraint_rows(system, frames, contacts, q)
+    return KinematicState(q, u, frames, contacts, G, bias)
+
+
+def residual(system, xdot, x, v, applied=None, q=None, G=None, at=None):
+    """Residual R(x', x; v) of the equations of motion (module docstring); v [m/s] > 0.
+
+    applied: optional generalised forces on the coordinates (e.g. a steer torque [N m] on the
+    steer joint's entry), subtracted like every applied force. q: the coordinates at x when
+    already known (``positions(system, x)``), e.g. for many x' at one x; G: the velocity
+    rows at that q when already known (:func:`constraint_matrix`); at: the whole
+    :func:`kinematic_state` at x when already known (q and G are then not needed).
+    """
+    n = len(system.tree.coordinates)
+    nq, nu = len(system.indep_pos), len(system.indep_speed)
+    dtype = np.result_type(xdot, x, float)
+    at = kinematic_state(system, x, v, q, G) if at is None else at
+    q, u, frames, contacts, G = at.q, at.u, at.frames, at.contacts, at.G
     acc = np.zeros(n, dtype)
     acc[list(system.indep_speed)] = xdot[nq:nq + nu]
-    udot = _solve_dependent(system, G, acc, bias)
+    udot = _solve_dependent(system, G, acc, at.bias)
     forces = generalized_force_residual(system, frames, u, udot)
     forces += _joint_spring_dampers(system, q, u)
     tyre_rows = _tyre_forces_and_rows(system, frames, contacts, xdot[nq + nu:], x[nq + nu:], v)

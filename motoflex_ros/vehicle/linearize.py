@@ -13,7 +13,13 @@ import numpy as np
 import scipy.linalg
 
 from motoflex_ros.errors import ModelError
-from motoflex_ros.vehicle.dynamics import build_system, constraint_matrix, positions, residual
+from motoflex_ros.vehicle.dynamics import (
+    build_system,
+    constraint_matrix,
+    kinematic_state,
+    positions,
+    residual,
+)
 
 __all__ = ["LinearVehicle", "SecondOrderMatrices", "linearize_at", "linearize",
            "is_singular", "SINGULAR_RTOL", "check_determined", "UNDETERMINED_RTOL",
@@ -71,11 +77,14 @@ def linearize_at(system, v):
     # (one Newton step is exact for a perturbation of the reference: dynamics.positions)
     q_ref = positions(system, zero, newton_steps=1)
     G_ref = constraint_matrix(system, q_ref)     # the velocity rows at q_ref, shared
+    # the residual is linear in x': every column of E perturbs x' at the reference, which
+    # shares one kinematic state (frames, contacts, velocity rows)
+    reference = kinematic_state(system, zero, v, q=q_ref, G=G_ref)
     n_pos = len(system.indep_pos)
     for k in range(n):
         step = np.zeros(n, complex)
         step[k] = 1j * COMPLEX_STEP
-        E[:, k] = residual(system, step, zero, v, q=q_ref, G=G_ref).imag / COMPLEX_STEP
+        E[:, k] = residual(system, step, zero, v, at=reference).imag / COMPLEX_STEP
         if k < n_pos:
             A[:, k] = -residual(system, zero, step, v,
                                 q=positions(system, step, newton_steps=1)).imag / COMPLEX_STEP
