@@ -20,6 +20,8 @@ import argparse
 import resource
 import time
 
+from motoflex_ros.units import NS_PER_S
+
 MEMORY_BOUND_MB = 450.0
 MARKERS = ((0.0, 0.0, 0.0), (0.05, 0.0, 0.0), (0.0, 0.05, 0.0), (0.05, 0.05, 0.01))
 
@@ -63,7 +65,7 @@ def main():
     live = MeasuredInputs(node, params)
     take_load, take_markers = (sub.callback for sub in live.subscriptions)
     samples = int(args.minutes * 60.0 * args.rate_hz)
-    step_ns = int(round(1e9 / args.rate_hz))
+    step_ns = int(round(NS_PER_S / args.rate_hz))
     report_every = int(5 * 60 * args.rate_hz)
     start = time.perf_counter()
     print(f"{samples} samples ({args.minutes:g} min at {args.rate_hz:g} Hz), max_frames "

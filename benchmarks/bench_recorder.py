@@ -26,7 +26,8 @@ PUBLISHER = r"""
 import sys, time, rclpy, rclpy.duration
 from geometry_msgs.msg import WrenchStamped
 from rclpy.serialization import serialize_message
-from motoflex_ros.nodes.runtime import publish_patiently, reliable_qos
+from motoflex_ros.nodes.qos_profiles import reliable_qos
+from motoflex_ros.nodes.transport import publish_patiently
 rclpy.init()
 node = rclpy.create_node("bench_publisher")
 topics, n = sys.argv[1].split(","), int(sys.argv[2])
@@ -86,6 +87,7 @@ def _recorder_rate(n, tmp):
     from motoflex_ros.launcher.domain import DomainLock
     from motoflex_ros.launcher.graph import ros_env
     from motoflex_ros.record.mcap_bag import bag_info, read_messages
+    from motoflex_ros.units import NS_PER_S
     bag = Path(tmp) / "recorded"
     with DomainLock() as lock:
         env = ros_env(lock.domain_id, Path(tmp) / "log")
@@ -105,7 +107,7 @@ def _recorder_rate(n, tmp):
     assert codes == [0, 0] and recorder.returncode == 0
     info = bag_info(bag)
     times = [m.log_time_ns for m in read_messages(bag)]
-    return (info.message_count, info.message_count / ((max(times) - min(times)) / 1e9),
+    return (info.message_count, info.message_count / ((max(times) - min(times)) / NS_PER_S),
             info.message_count / cpu)
 
 

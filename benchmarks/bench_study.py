@@ -29,6 +29,7 @@ from motoflex_ros.study.motorcycle import decomposed_study, with_stiffness  # no
 from motoflex_ros.study.sensitivity import run_sensitivity  # noqa: E402
 from motoflex_ros.units import kmh_to_ms  # noqa: E402
 from motoflex_ros.vehicle.linearize import linearize  # noqa: E402
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 from motoflex_ros.vehicle.model import load_vehicle  # noqa: E402
 from motoflex_ros.vehicle.modes import modal_sweep  # noqa: E402
 
@@ -68,7 +69,7 @@ def bench_rigid(vehicle, repeats):
     t_track = best_of(repeats, track)
     result = track()
     error = max(np.max(np.abs(result.eigenvalues[0, :, i] - sweep.modes[m])
-                       / np.abs(sweep.modes[m])) for i, m in enumerate(("weave", "wobble")))
+                       / np.abs(sweep.modes[m])) for i, m in enumerate(STUDIED_MODES))
     print(f"rigid touring motorcycle, n = {a.shape[-1]}, one run, {SPEEDS.size} speeds:")
     row("batched eigvals of E^-1 A (baseline)", t_eigvals, t_eigvals)
     row("engine modal_sweep (QZ + MAC)", t_sweep, t_eigvals)

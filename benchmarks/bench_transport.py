@@ -33,7 +33,7 @@ PUBLISHER = r"""
 import sys, time, rclpy
 from std_msgs.msg import String
 from rclpy.serialization import serialize_message
-from motoflex_ros.nodes.runtime import reliable_qos
+from motoflex_ros.nodes.qos_profiles import reliable_qos
 from motoflex_ros.nodes.transport import publish_patiently
 rclpy.init()
 node = rclpy.create_node("bench_talker")
@@ -66,7 +66,7 @@ def _message_loop(kind, n, env):
     from std_msgs.msg import String
 
     from motoflex_ros.nodes import transport
-    from motoflex_ros.nodes.runtime import reliable_qos
+    from motoflex_ros.nodes.qos_profiles import reliable_qos
     context = rclpy.Context()
     rclpy.init(context=context, domain_id=int(env["ROS_DOMAIN_ID"]))
     try:

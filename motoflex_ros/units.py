@@ -4,9 +4,10 @@ The paper gives speeds in km/h (40-210 km/h, Sect. 4.3); everything inside works
 """
 import numpy as np
 
-__all__ = ["KMH_PER_MS", "kmh_to_ms", "ms_to_kmh"]
+__all__ = ["KMH_PER_MS", "NS_PER_S", "kmh_to_ms", "ms_to_kmh"]
 
 KMH_PER_MS = 3.6  # 1 m/s = 3.6 km/h
+NS_PER_S = 1_000_000_000  # ROS time stamps and bag log times are integer nanoseconds
 
 
 def kmh_to_ms(speed_kmh):

@@ -471,7 +471,7 @@ def test_failed_campaign_leaves_no_temporary_folder_and_keeps_its_logs(tmp_path,
     import tempfile
 
     from motoflex_ros.launcher import campaign_graph
-    from motoflex_ros.launcher.run import RunFailed
+    from motoflex_ros.launcher.run_failures import RunFailed
     temp = tmp_path / "tmp"
     temp.mkdir()
     monkeypatch.setattr(tempfile, "tempdir", str(temp))

@@ -16,7 +16,7 @@ import pytest
 from processes import processes_naming
 
 pytest.importorskip("rclpy")
-from motoflex_ros.cli.output import to_jsonable  # noqa: E402
+from motoflex_ros.formats.json_yaml import to_jsonable  # noqa: E402
 from motoflex_ros.record import mcap_bag  # noqa: E402
 
 COMPONENT = "swingarm"

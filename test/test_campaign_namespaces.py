@@ -22,7 +22,7 @@ from test_campaign_graph import (  # noqa: E402
     without_inputs,
 )
 
-from motoflex_ros.cli.output import to_jsonable  # noqa: E402
+from motoflex_ros.formats.json_yaml import to_jsonable  # noqa: E402
 from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
 from motoflex_ros.record import mcap_bag  # noqa: E402
 

@@ -75,7 +75,7 @@ def test_seed_out_of_range_is_refused_before_anything_runs(verb, value, capsys, 
 
 
 def test_noise_node_parameter_range_is_the_offline_bound():
-    from motoflex_ros.bench.offline_campaign import MAX_NOISE_M
+    from motoflex_ros.bench.sensor import MAX_NOISE_M
     from motoflex_ros.nodes.bench_graph import BENCH_PARAMS
     from motoflex_ros.nodes.params import ParameterError
     noise = next(p for p in BENCH_PARAMS if p.name == "noise")

@@ -285,8 +285,8 @@ def _forged(topic):
     from rosgraph_msgs.msg import Clock
 
     from motoflex_ros.nodes.conversions import points_msg
+    from motoflex_ros.nodes.qos_profiles import latched_qos, reliable_qos
     from motoflex_ros.nodes.result_messages import identification_statuses
-    from motoflex_ros.nodes.runtime import latched_qos, reliable_qos
     from motoflex_ros.nodes.stamps import time_msg
     if topic == "/clock":
         return Clock(clock=time_msg(10**12)), reliable_qos()

@@ -109,7 +109,7 @@ def test_decay_interval_covers_eigenvalue(component):
 def test_decay_interval_in_results_and_table():
     """The modal results carry the intervals under 'ci' (as the other identified values) and
     the identify table prints them; an undefined interval is 'n/a'."""
-    from motoflex_ros.cli.output import to_jsonable
+    from motoflex_ros.formats.json_yaml import to_jsonable
     from motoflex_ros.identify.results import _modal
     setup = decay_motion("swingarm")[0]
     modal = to_jsonable(_modal(setup.modes, replay_decay("swingarm", 0)))

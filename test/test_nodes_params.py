@@ -58,7 +58,7 @@ def test_node_help_lists_parameters_and_exits(script, module):
     the node and wait for its graph, forever)."""
     import importlib
 
-    from motoflex_ros.nodes.runtime import RigNode
+    from motoflex_ros.nodes.rig_node import RigNode
     result = subprocess.run([sys.executable, "-m", module, "--help"], capture_output=True,
                             text=True, timeout=60)
     assert result.returncode == 0, result.stderr

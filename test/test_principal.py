@@ -234,7 +234,7 @@ def test_moment_beyond_the_linear_range_names_the_key(tmp_path):
 def test_report_lists_the_principal_hinges_with_their_json_paths():
     """Issue 22: the report's identification table lists each identified hinge, its cells
     pointing at principal/hinges/<i> of the identification file."""
-    from motoflex_ros.cli.output import to_jsonable
+    from motoflex_ros.formats.json_yaml import to_jsonable
     from motoflex_ros.report.tables import identification_table
     vs = [hinge_vector(l, beta) for l, beta, _ in TWO_HINGES]
     c = sum(hinge_compliance(k, l, beta, Q0) for l, beta, k in TWO_HINGES)
@@ -264,7 +264,7 @@ def test_principal_results_round_trip_through_diagnostic_key_values():
     pytest.importorskip("rclpy")
     from diagnostic_msgs.msg import DiagnosticStatus
 
-    from motoflex_ros.cli.output import to_jsonable
+    from motoflex_ros.formats.json_yaml import to_jsonable
     from motoflex_ros.nodes.result_messages import (
         identification_statuses,
         results_from_statuses,

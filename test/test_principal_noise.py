@@ -15,8 +15,9 @@ from motoflex_ros.bench.response import ComponentSimulator
 from motoflex_ros.config import resolve_config
 from motoflex_ros.formats.component_file import load_components
 from motoflex_ros.identify.principal import PRINCIPAL_TESTS, identify_principal
+from motoflex_ros.study.accuracy import QUANTITIES
 from motoflex_ros.study.identified_variants import build_variant, carried_inertias
-from motoflex_ros.study.lumped_accuracy import QUANTITIES, flexible_reference, mode_errors
+from motoflex_ros.study.lumped_accuracy import flexible_reference, mode_errors
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.model import load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep

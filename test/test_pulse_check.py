@@ -11,10 +11,11 @@ import yaml
 from motoflex_ros.cli.eig import pulse_check_to_json
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ModelError
-from motoflex_ros.study.pulse_check import PULSE_MODES, pulse_check
+from motoflex_ros.study.pulse_check import pulse_check
 from motoflex_ros.units import kmh_to_ms
 from motoflex_ros.vehicle.dynamics import build_system
 from motoflex_ros.vehicle.linearize import linearize
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 from motoflex_ros.vehicle.model import load_vehicle, vehicle_from_dict
 from motoflex_ros.vehicle.nonlinear_response import (
     RK4_RATE_LIMIT,
@@ -44,7 +45,7 @@ def test_small_pulse_stays_small(check):
 
 
 def test_nonlinear_pulse_gives_weave_and_wobble_within_one_percent(check):
-    assert set(check.linear) == set(PULSE_MODES)
+    assert set(check.linear) == set(STUDIED_MODES)
     for mode, (frequency, real) in check.relative_errors().items():
         assert abs(frequency) < 0.01, (mode, frequency)
         assert abs(real) < 0.01, (mode, real)

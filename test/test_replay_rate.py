@@ -55,7 +55,8 @@ class Probe:
         import rclpy
         from rclpy.executors import SingleThreadedExecutor
 
-        from motoflex_ros.nodes.runtime import READY_TOPIC, latched_qos, reliable_qos
+        from motoflex_ros.nodes.interfaces import READY_TOPIC
+        from motoflex_ros.nodes.qos_profiles import latched_qos, reliable_qos
         self.context = rclpy.Context()
         rclpy.init(args=[], context=self.context, domain_id=domain_id)
         self.node = rclpy.create_node("probe", context=self.context)

@@ -16,12 +16,15 @@ import numpy as np
 import pytest
 
 from motoflex_ros.report.published import meijaard2007_eigenvalues
-from motoflex_ros.report.tables import FACTORS, INDICES, QUANTITIES, VARIANTS
+from motoflex_ros.report.tables import VARIANTS
 from motoflex_ros.structures.paper_tables import (
     COMPONENTS,
     paper_table1_eigenfrequencies,
     paper_table2_stiffness,
 )
+from motoflex_ros.study.accuracy import QUANTITIES
+from motoflex_ros.study.factorial import FACTORS
+from motoflex_ros.study.stability_index import INDEX_NAMES
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
@@ -48,9 +51,9 @@ def _documents(rng):
     accuracy = {case: {v: {q: num(0, 20) for q in QUANTITIES} for v in VARIANTS}
                 for case in (*COMPONENTS, "all")}
     sensitivity = {"nominal": {f: num(1e4, 1e6) for f in FACTORS},
-                   "indices": {i: [num(-3, -0.1) for _ in range(64)] for i in INDICES},
-                   "anova_main_share": {i: num(0.9, 1.0) for i in INDICES},
-                   "pearson": {i: {f: num(-1, 1) for f in FACTORS} for i in INDICES}}
+                   "indices": {i: [num(-3, -0.1) for _ in range(64)] for i in INDEX_NAMES},
+                   "anova_main_share": {i: num(0.9, 1.0) for i in INDEX_NAMES},
+                   "pearson": {i: {f: num(-1, 1) for f in FACTORS} for i in INDEX_NAMES}}
     whipple = {"speeds_mps": [5.0, 10.0], "eigenvalues": [
         [[z.real + num(-1e-9, 1e-9), z.imag] for z in (*ref.values(), ref["weave"].conjugate())]
         for ref in meijaard2007_eigenvalues().values()]}
@@ -151,7 +154,7 @@ def test_report_tables_are_complete(full_report):
             assert ("components.json", f"{c}/f_{shape}_hz") in paths
         for key in ("static/k", "k_t", "k_b"):
             assert ("identify.json", f"{c}/{key}") in paths
-    for i in INDICES:
+    for i in INDEX_NAMES:
         for f in FACTORS:
             assert ("sensitivity.json", f"pearson/{i}/{f}") in paths
     for case in (*COMPONENTS, "all"):

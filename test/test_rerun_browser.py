@@ -116,7 +116,7 @@ def _poll(browser, limit_s, done):
     deadline = time.monotonic() + limit_s
     png = browser.screenshot()
     while not done(png) and time.monotonic() < deadline:
-        time.sleep(2.0)
+        time.sleep(0.5)
         png = browser.screenshot()
     return png
 
@@ -158,9 +158,12 @@ def test_every_view_of_every_tab_shows_data_on_the_opening_timeline(served):
         # blank first, as before every view: else the last view, still on the screen, is taken
         # for the control's first drawing (the CI run of 2026-12-03 failed so, (7950, 952))
         _show(stream, BLANK)
-        assert _blank(_poll(browser, VIEW_LIMIT_S, _blank))
+        blank_png = _poll(browser, VIEW_LIMIT_S, _blank)
+        assert _blank(blank_png)
         _show(stream, control)
-        control_png = _poll(browser, 20.0, lambda png: drawn(png) and data_pixels(png)[1] > 100)
+        # drawn: its grey tick labels (about 500-800 dark pixels) on the blank screen
+        ticks = data_pixels(blank_png)[1] + 200
+        control_png = _poll(browser, 20.0, lambda png: drawn(png) and data_pixels(png)[1] > ticks)
     finally:
         browser.close()
         stream.disconnect()

@@ -15,7 +15,7 @@ from std_msgs.msg import String  # noqa: E402
 from motoflex_ros.errors import MotoflexError  # noqa: E402
 from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
 from motoflex_ros.nodes import endpoints, transport, transport_ctypes, transport_rclpy  # noqa: E402
-from motoflex_ros.nodes.runtime import reliable_qos  # noqa: E402
+from motoflex_ros.nodes.qos_profiles import reliable_qos  # noqa: E402
 
 CHECKED = dict(transport_ctypes.CHECKED_VERSIONS)
 
@@ -44,7 +44,7 @@ def test_switch_selects_the_plain_path_and_refuses_unknown_names():
 
 def test_node_refuses_to_start_on_unchecked_releases(monkeypatch, capsys):
     """Checked at start, before rclpy.init: one line naming the versions, exit code 2."""
-    from motoflex_ros.nodes.runtime import run_node
+    from motoflex_ros.nodes.node_main import run_node
     from motoflex_ros.nodes.sim_clock import SimClock
     monkeypatch.delenv("MOTOFLEX_TRANSPORT", raising=False)
     monkeypatch.setattr(transport_ctypes, "installed_versions",

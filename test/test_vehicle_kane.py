@@ -149,33 +149,37 @@ class KaneMotorcycle:
                 "slip": lateral.dot(v_material), "camber": -sm.asin(a.dot(N.z)), "tyre": tyre}
 
     def numeric(self):
-        """Lambdified M(q), f(q, u, z), G(q), b(q, u), heights, slips and cambers."""
+        """Lambdified M(q), f(q, u, z), G(q), b(q, u), heights, slips and cambers.
+
+        The dynamic symbols are replaced by plain ones (``xreplace``: none of the expressions
+        holds a coordinate rate) before anything is differentiated or compiled: sympy
+        differentiates plain symbols several times faster than functions of time, and
+        ``msubs`` walking the whole tree took a third of this fixture."""
         kane = me.KanesMethod(self.N, q_ind=self.q, u_ind=self.u, kd_eqs=self.kd)
         kane.kanes_equations(self.bodies, self.loads)
         qs, us = sm.symbols("q0:10"), sm.symbols("u0:10")
         sub = dict(zip(self.q, qs)) | dict(zip(self.u, us))
-        rows = [c[k] for c in self.contacts for k in ("long", "normal")]
-        G = sm.Matrix(rows).jacobian(self.u)
-        qdot = sm.solve(self.kd, [qi.diff() for qi in self.q])
-        Gu = G * sm.Matrix(self.u)
-        bias = sm.Matrix([sum(sm.diff(r, qi) * qdot[qi.diff()] for qi in self.q) for r in Gu])
+        plain = lambda expr: expr.xreplace(sub)  # noqa: E731
+        rows = sm.Matrix([plain(c[k]) for c in self.contacts for k in ("long", "normal")])
+        G = rows.jacobian(us)
+        rates = sm.solve(self.kd, [qi.diff() for qi in self.q])
+        qdot = [plain(rates[qi.diff()]) for qi in self.q]
+        bias = sm.Matrix([sum(sm.diff(r, qi) * qd for qi, qd in zip(qs, qdot))
+                          for r in G * sm.Matrix(us)])
         forcing = kane.forcing   # already in speeds: no coordinate rates left
         assert not forcing.has(*[qi.diff() for qi in self.q])
-        heights = sm.Matrix([c["height"] for c in self.contacts])
-        args_q = [qs]
-        fns = {
-            "M": sm.lambdify(args_q, me.msubs(kane.mass_matrix, sub), cse=True),
-            "f": sm.lambdify([qs, us, self.tyre_states], me.msubs(forcing, sub), cse=True),
-            "G": sm.lambdify(args_q, me.msubs(G, sub), cse=True),
-            "b": sm.lambdify([qs, us], me.msubs(bias, sub), cse=True),
-            "h": sm.lambdify(args_q, me.msubs(heights, sub), cse=True),
-            "dh": sm.lambdify(args_q, me.msubs(heights.jacobian([self.q[2], self.q[5]]), sub),
-                              cse=True),
-            "slip": sm.lambdify([qs, us], [me.msubs(c["slip"], sub) for c in self.contacts],
-                                cse=True),
-            "camber": sm.lambdify(args_q, [me.msubs(c["camber"], sub) for c in self.contacts],
-                                  cse=True),
-        }
+        heights = sm.Matrix([plain(c["height"]) for c in self.contacts])
+        exprs = {"M": plain(kane.mass_matrix), "f": plain(forcing), "G": G, "b": bias,
+                 "h": heights, "dh": heights.jacobian([qs[2], qs[5]])}
+        assert not any(e.has(*self.q, *self.u, sm.Derivative) for e in exprs.values())
+        # common subexpressions in the order found (sympy's canonical ordering of them is
+        # what makes the default slow); list=False keeps a Matrix a Matrix
+        cse = lambda expr: sm.cse(expr, order="none", list=False)  # noqa: E731
+        args = {"M": [qs], "f": [qs, us, self.tyre_states], "G": [qs], "b": [qs, us],
+                "h": [qs], "dh": [qs]}
+        fns = {name: sm.lambdify(args[name], expr, cse=cse) for name, expr in exprs.items()}
+        fns["slip"] = sm.lambdify([qs, us], [plain(c["slip"]) for c in self.contacts], cse=cse)
+        fns["camber"] = sm.lambdify([qs], [plain(c["camber"]) for c in self.contacts], cse=cse)
         return fns
 
 

@@ -78,7 +78,7 @@ def test_view_web_shows_3d_bench_in_chromium(served_run):
         deadline = time.monotonic() + LOAD_LIMIT_S
         count, png = 0, b""
         while time.monotonic() < deadline and count < MIN_BEAM_PIXELS:
-            time.sleep(2.0)
+            time.sleep(0.5)
             png = browser.screenshot()
             count = beam_pixels(png, VIEW_BOX)
     finally:

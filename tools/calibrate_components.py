@@ -26,7 +26,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from motoflex_ros.config import load_yaml, resolve_config, validate
-from motoflex_ros.structures.assembly import Structure, rigid_body_mass
+from motoflex_ros.structures.assembly import Structure, rigid_body_mass, rigid_field
 from motoflex_ros.structures.component_model import Component
 from motoflex_ros.structures.component_schema import (
     STRUCTURE_SCHEMA,
@@ -39,7 +39,6 @@ from motoflex_ros.structures.paper_tables import (
     paper_table2_stiffness,
 )
 from motoflex_ros.vehicle.model import load_vehicle
-from motoflex_ros.vehicle.superelement import rigid_field
 
 FIRST_MODE = {"frame": "torsion", "front_assembly": "torsion", "swingarm": "bending"}
 

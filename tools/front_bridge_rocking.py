@@ -36,6 +36,7 @@ from motoflex_ros.study.tilt_stiffness import (
 )
 from motoflex_ros.units import kmh_to_ms, ms_to_kmh
 from motoflex_ros.vehicle.linearize import linearize
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 from motoflex_ros.vehicle.model import load_vehicle
 
 
@@ -80,7 +81,7 @@ def main():
                        progress=lambda label: print(f"   ... {label}", file=sys.stderr))
     print("3. weave and wobble [1/s] at "
           + ", ".join(f"{ms_to_kmh(v):g}" for v in speeds) + " km/h")
-    for mode in ("weave", "wobble"):
+    for mode in STUDIED_MODES:
         print(f"   {'one clamped superelement':34s} {mode:6s} {_cells(sweep.superelement[mode])}")
         print(f"   {'per-body, head revolute':34s} {mode:6s} {_cells(sweep.held[mode])}")
         for factor, row in zip(sweep.factors, sweep.modes[mode]):
@@ -91,7 +92,7 @@ def main():
     for k, factor in enumerate(sweep.factors):
         print(f"   x {factor:<6g} " + "  ".join(
             f"{mode} {least[mode][0][k]:+.3f} ({ms_to_kmh(least[mode][1][k]):.0f})"
-            for mode in ("weave", "wobble")))
+            for mode in STUDIED_MODES))
 
 
 if __name__ == "__main__":

@@ -31,7 +31,8 @@ from motoflex_ros.bench.offline_campaign import measure_motion
 from motoflex_ros.bench.plan import MAX_ROTATION_RAD
 from motoflex_ros.bench.response import ComponentSimulator
 from motoflex_ros.errors import ModelError, ProtocolError
-from motoflex_ros.identify.results import AxisModel, static_model
+from motoflex_ros.identify.axis_model import AxisModel
+from motoflex_ros.identify.results import static_model
 
 __all__ = ["LoadTestResult", "lever_wrench", "load_arm", "load_test", "load_model",
            "LOAD_TESTS"]

@@ -23,7 +23,7 @@ from motoflex_ros.spatial import rotation_from_vector
 
 __all__ = ["CampaignSetup", "CampaignRun", "setup_campaign", "make_stages", "run_campaign",
            "identify_components", "only_tests", "with_sensor", "measure_motion", "checked_noise",
-           "MAX_NOISE_M", "checked_seed", "MAX_SEED"]
+           "checked_seed"]
 
 
 @dataclass(frozen=True)

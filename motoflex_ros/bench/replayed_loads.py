@@ -24,10 +24,10 @@ import numpy as np
 
 from motoflex_ros.bench.actuator import LATERAL_WRENCH, LoadSample, wrench_amplitude
 from motoflex_ros.bench.response import ComponentSimulator
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["ReplayedLoads", "recorded_samples", "replayed_displacements"]
 
-NS_PER_S = 1_000_000_000
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,6 @@
 """``motoflex bag info PATH`` and ``motoflex bag repair PATH``: inspect and salvage bags."""
 from motoflex_ros.cli.output import emit_json, print_table
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["register", "run"]
 
@@ -30,7 +31,7 @@ def run(args):
             else bag_info(args.path, verify=True))
     summary = {"path": str(info.path), "mcap_file": str(info.mcap_file),
                "message_count": info.message_count, "start_ns": info.start_ns,
-               "duration_s": info.duration_ns / 1e9, "repaired": info.repaired or None,
+               "duration_s": info.duration_ns / NS_PER_S, "repaired": info.repaired or None,
                "topics": [{"name": t.name, "type": t.type, "count": t.count}
                           for t in info.topics]}
     if args.json:
@@ -38,7 +39,7 @@ def run(args):
         return 0
     verb = "repaired" if args.action == "repair" else "bag"
     print(f"{verb}: {info.path}  ({info.message_count} messages, "
-          f"{info.duration_ns / 1e9:.3f} s)")
+          f"{info.duration_ns / NS_PER_S:.3f} s)")
     if info.repaired:
         print(f"REPAIRED BAG (not as recorded): {info.repaired}")
     print_table(("topic", "type", "messages"),

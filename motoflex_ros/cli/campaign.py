@@ -18,8 +18,9 @@ from pathlib import Path
 
 from motoflex_ros.cli.inputs import namespace_argument, noise_argument, seed_argument
 from motoflex_ros.cli.options import add_component_option, components_of
-from motoflex_ros.cli.output import atomic_write_text, emit_json
+from motoflex_ros.cli.output import emit_json
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+from motoflex_ros.files import atomic_write_text
 
 __all__ = ["register", "run"]
 

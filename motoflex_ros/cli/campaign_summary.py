@@ -8,6 +8,7 @@ import numpy as np
 from motoflex_ros.cli.output import print_table
 from motoflex_ros.report.summary import K_SPLIT_REASON
 from motoflex_ros.study.verdict import stability_verdict
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 
 __all__ = ["fe_static_k", "stiffness_table", "vehicle_table", "stability_json", "json_output",
            "verdict_text"]
@@ -84,7 +85,7 @@ def verdict_text(modes):
 def vehicle_table(modes, stream=None, speeds_kmh=TABLE_SPEEDS_KMH):
     """Print weave and wobble at a few speeds, then the verdict over the whole sweep."""
     rows = []
-    for name in ("weave", "wobble"):
+    for name in STUDIED_MODES:
         mode = modes.get(name)
         if not mode:
             continue
@@ -107,7 +108,7 @@ def stability_json(modes, variant, components):
         return None
     _, verdict = _verdict(modes)
     return {"model": {"vehicle": "touring", "variant": variant, "components": list(components)},
-            "modes": {m: modes[m] for m in ("weave", "wobble") if m in modes},
+            "modes": {m: modes[m] for m in STUDIED_MODES if m in modes},
             "verdict": {m: v.as_dict() for m, v in verdict.items()},
             "stable": bool(verdict) and all(v.stable for v in verdict.values())}
 

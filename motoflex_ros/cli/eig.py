@@ -51,8 +51,9 @@ from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.pulse_check import pulse_check
 from motoflex_ros.units import kmh_to_ms, ms_to_kmh
 from motoflex_ros.vehicle.linearize import linearize
+from motoflex_ros.vehicle.mode_names import MODE_NAMES
 from motoflex_ros.vehicle.model import load_vehicle
-from motoflex_ros.vehicle.modes import MODE_NAMES, modal_sweep
+from motoflex_ros.vehicle.modes import modal_sweep
 from motoflex_ros.vehicle.schema import SPEED_MAX_MPS
 from motoflex_ros.vehicle.variants import FLEX_CHOICES, FLEXIBLE, parse_components
 

@@ -3,11 +3,10 @@ import sys
 from pathlib import Path
 
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.files import OutputError, atomic_write_text, check_output_path
+from motoflex_ros.files import OutputError, check_output_path
 from motoflex_ros.formats.json_yaml import json_text, to_jsonable
 
-__all__ = ["emit_json", "to_jsonable", "atomic_write_text", "print_table", "add_force_option",
-           "check_new_file"]
+__all__ = ["emit_json", "to_jsonable", "print_table", "add_force_option", "check_new_file"]
 
 
 def add_force_option(parser):

@@ -13,6 +13,7 @@ written by ``motoflex bag repair`` is replayed with a warning that says so.
 """
 from motoflex_ros.cli.output import add_force_option, check_new_file
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["register", "run", "bag_components", "replay_logs"]
 
@@ -73,7 +74,7 @@ def run(args):
     if args.identify:
         return _identify(info, rate, args.identify)
     from motoflex_ros.nodes.bag_replay import BagReplay
-    from motoflex_ros.nodes.runtime import run_node
+    from motoflex_ros.nodes.node_main import run_node
     domain = os.environ.get("ROS_DOMAIN_ID", "").strip() or "0 (unset)"
     print(f"replaying {info.path}: {info.message_count} messages at rate {rate:g} on "
           f"ROS_DOMAIN_ID {domain}", flush=True)
@@ -109,7 +110,7 @@ def _identify(info, rate, out):
     # removed at the end; on a failure the node logs are kept beside the output (not in
     # ~/.ros/log), and the message names them there
     with work_folder("motoflex_run_", keep_logs_in=replay_logs(out)) as work_dir:
-        run = run_graph(specs, "bag_replay", info.duration_ns / 1e9, work_dir=work_dir,
+        run = run_graph(specs, "bag_replay", info.duration_ns / NS_PER_S, work_dir=work_dir,
                         finishers=["identification"])
     print(f"identified {', '.join(components)} from {info.path} -> {out} "
           f"({run.wall_s:.1f} s)")

@@ -46,6 +46,7 @@ from motoflex_ros.cli.study_accuracy import register_accuracy
 from motoflex_ros.cli.study_design import register_design
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS, resolve_config
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 
 __all__ = ["register", "run", "SUBCOMMANDS"]
 
@@ -141,7 +142,7 @@ def _plots(result, run_outputs, speeds, directory):
     from motoflex_ros.plots.study_figures import plot_pearson_bars, plot_stability_curves
 
     written = [plot_pearson_bars(result.pearson, Path(directory) / "fig10_pearson.png")]
-    for mode in ("weave", "wobble"):
+    for mode in STUDIED_MODES:
         written.append(plot_stability_curves(speeds, np.real(run_outputs[mode]),
                                              Path(directory) / f"{mode}_real_parts.png",
                                              mode=mode))

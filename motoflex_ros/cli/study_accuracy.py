@@ -31,15 +31,15 @@ from motoflex_ros.cli.inputs import (
 )
 from motoflex_ros.cli.output import (
     add_force_option,
-    atomic_write_text,
     check_new_file,
     emit_json,
     print_table,
     progress_bar,
-    to_jsonable,
 )
 from motoflex_ros.config import resolve_config
 from motoflex_ros.errors import ConfigError
+from motoflex_ros.files import atomic_write_text
+from motoflex_ros.formats.json_yaml import to_jsonable
 from motoflex_ros.units import kmh_to_ms, ms_to_kmh
 
 __all__ = ["register_accuracy", "run_accuracy", "print_hinges", "details"]

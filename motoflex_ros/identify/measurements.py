@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["MeasurementError", "row_text", "check_increasing", "LoadStream", "MarkerStream",
            "Measurements", "marker_columns", "synchronise", "check_time_resolution",
@@ -311,8 +312,8 @@ def stream_measurements(load_ns, wrench, frame_ns, frames, rows, latency_s, load
     check_increasing(load_ns.astype(float), load_source, np.arange(1, len(load_ns) + 1),
                      "header.stamp", "message")
     t0 = min(int(load_ns[0]), int(np.min(frame_ns)))
-    loads = LoadStream((load_ns - t0) / 1e9, np.asarray(wrench, float), load_source)
-    markers = MarkerStream((np.asarray(frame_ns, float) - t0) / 1e9, frames, marker_source,
+    loads = LoadStream((load_ns - t0) / NS_PER_S, np.asarray(wrench, float), load_source)
+    markers = MarkerStream((np.asarray(frame_ns, float) - t0) / NS_PER_S, frames, marker_source,
                            np.asarray(rows), "message")
     data = synchronise(loads, markers, latency_s)
     data.counts.update(counts or {}, t0_ns=t0)

@@ -22,9 +22,9 @@ from motoflex_ros.identify.uncertainty import LEVEL, interval, propagate
 from motoflex_ros.lumped_stiffness.axis import axis_stiffness
 from motoflex_ros.lumped_stiffness.decomposition import decompose_stiffness, split_problem
 
-__all__ = ["AxisModel", "ComponentIdentification", "identify_component", "static_model",
-           "mode_model", "harmonic_axis", "split_model", "check_positive_k", "MEASURED_KEY",
-           "ResultsFile", "results_source", "MODEL_TESTS", "RESULT_KEYS"]
+__all__ = ["ComponentIdentification", "identify_component", "static_model", "mode_model",
+           "harmonic_axis", "split_model", "check_positive_k", "MEASURED_KEY", "ResultsFile",
+           "results_source", "MODEL_TESTS", "RESULT_KEYS"]
 
 MODEL_TESTS = ("static", "torsion", "bending")
 """Tests the identification needs, by name: eqs. (8)-(12) use the static test and the harmonic

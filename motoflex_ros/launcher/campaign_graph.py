@@ -11,10 +11,18 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from diagnostic_msgs.msg import DiagnosticArray
+
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
+from motoflex_ros.files import atomic_write_text
 from motoflex_ros.launcher.graph import NodeSpec
-from motoflex_ros.launcher.run import RunFailed, run_graph, work_folder
+from motoflex_ros.launcher.run import run_graph, work_folder
+from motoflex_ros.launcher.run_failures import RunFailed
+from motoflex_ros.launcher.status import staged
+from motoflex_ros.nodes.result_messages import IDENTIFIED_UNITS
+from motoflex_ros.record.mcap_bag import check_new_bag_dir
 from motoflex_ros.record.tf_bag import TF_LIVE, TF_STATIC_LIVE
+from motoflex_ros.vehicle.mode_names import MODE_NAMES
 
 __all__ = ["CampaignOutcome", "campaign_specs", "campaign_topics", "run_campaign_graph",
            "bench_components",
@@ -41,10 +49,9 @@ class CampaignOutcome:
     """{absolute path: SHA-256} of every input file the run read (pinned for the run)."""
 
 
-MODES = ("weave", "wobble", "capsize")
 VEHICLE_TOPICS = ("/vehicle/eigenvalues", "/vehicle/joint_states", "/vehicle/bodies",
                   "/vehicle/joint_axes", "/vehicle/geometry", "/vehicle/modes/speed_kmh",
-                  *(f"/vehicle/modes/{m}/{q}" for m in MODES for q in ("frequency_hz",
+                  *(f"/vehicle/modes/{m}/{q}" for m in MODE_NAMES for q in ("frequency_hz",
                                                                       "real_part")))
 
 VEHICLE_COMPONENTS = MOTORCYCLE_COMPONENTS
@@ -90,7 +97,6 @@ def campaign_topics(components):
 
 def identified_topics(components):
     """The numeric identification topics /identification/<c>/{k, l, beta}."""
-    from motoflex_ros.nodes.result_messages import IDENTIFIED_UNITS
     return [f"/identification/{c}/{q}" for c in components for q in IDENTIFIED_UNITS]
 
 
@@ -151,18 +157,11 @@ def campaign_inputs(components, noise=None, protocol=None):
     return planned, inputs
 
 
-def _diagnostic_array():
-    from diagnostic_msgs.msg import DiagnosticArray
-    return DiagnosticArray
-
-
 def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progress=False,
                        work_dir=None, namespace=None):
     """Run the campaign through the graph; returns a :class:`CampaignOutcome`. The results
     file gets its name only once every node finished cleanly (until then it is staged).
     ``namespace`` ('/rig_a') puts every node and topic under it (two rigs in one domain)."""
-    from motoflex_ros.launcher.status import staged
-    from motoflex_ros.record.mcap_bag import check_new_bag_dir
     bag = check_new_bag_dir(bag)
     result_file = bag / RESULT_FILE
     specs = campaign_specs(components, bag, noise, seed, protocol, staged(result_file))
@@ -174,7 +173,7 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
     with work_folder("motoflex_campaign_", work_dir, keep_logs_in=bag) as work_dir:
         run = run_graph(specs, "load_actuator", duration_s, tests_total=tests,
                         work_dir=work_dir, progress=progress, finishers=finishers,
-                        collect=[("vehicle/eigenvalues", _diagnostic_array())],
+                        collect=[("vehicle/eigenvalues", DiagnosticArray)],
                         namespace=namespace, pins=inputs)
         if not staged(result_file).is_file():
             raise RunFailed(f"the identification node wrote no {RESULT_FILE} in {bag}; its "
@@ -184,7 +183,6 @@ def run_campaign_graph(components, bag, noise=None, seed=0, protocol=None, progr
     files = {n: s for n, s, given in zip(names, specs, components) if s != given or
              Path(s).is_file()}
     if files:   # what draws them in the rerun recording and the report
-        from motoflex_ros.files import atomic_write_text
         from motoflex_ros.record.rerun_bag import COMPONENTS_FILE
         atomic_write_text(bag / COMPONENTS_FILE, json.dumps(files, indent=1) + "\n")
     results = json.loads(result_file.read_text())

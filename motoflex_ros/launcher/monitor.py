@@ -10,9 +10,12 @@ from motoflex_ros.launcher.graph import NodeDied
 from motoflex_ros.launcher.interrupts import raise_if_interrupted
 from motoflex_ros.launcher.run_failures import pacer_failed, peer_room_problem
 from motoflex_ros.nodes.endpoints import GraphWatch, InputGuard
-from motoflex_ros.nodes.runtime import PROGRESS_TOPIC, READY_TOPIC, FastSpinner, latched_qos
+from motoflex_ros.nodes.interfaces import PROGRESS_TOPIC, READY_TOPIC
+from motoflex_ros.nodes.qos_profiles import latched_qos
 from motoflex_ros.nodes.stamps import time_ns
+from motoflex_ros.nodes.transport import spinner
 from motoflex_ros.progress import progress_bar
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["Monitor"]
 
@@ -38,7 +41,7 @@ class Monitor(Node):
         for topic, msg_type in collect:
             self.create_subscription(msg_type, topic, self.collected[topic].append,
                                      latched_qos())
-        self.spinner = FastSpinner(self)
+        self.spinner = spinner(self)
 
     def spin(self, timeout_s):
         """Handle what arrives within ``timeout_s`` [s] (the count); look for foreign
@@ -101,9 +104,9 @@ class Monitor(Node):
         """Bring the bar to what the graph did (tests finished, or simulated time)."""
         if tests_total:
             done = min(sum(self.tests_done.values()), tests_total)
-            bar.set_postfix_str(f"simulated {self.sim_ns / 1e9:.1f} s", refresh=False)
+            bar.set_postfix_str(f"simulated {self.sim_ns / NS_PER_S:.1f} s", refresh=False)
         else:
-            done = round(self.sim_ns / 1e9, 3)
+            done = round(self.sim_ns / NS_PER_S, 3)
         if done != bar.n:
             bar.update(done - bar.n)
         elif tests_total:

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import motoflex_ros
 from motoflex_ros.files import atomic_write_text, read_json
+from motoflex_ros.input_pins import sha256_file
 
 __all__ = ["PROVENANCE_FILE", "write_provenance", "read_provenance", "git_state",
            "sensor_noise", "utc_stamp"]
@@ -67,7 +68,6 @@ def write_provenance(folder, argv, components, seed, noise_override=None, protoc
     ``inputs``: {absolute path: SHA-256} of the run's input files; ``bag_file``: the MCAP
     file the run recorded.
     """
-    from motoflex_ros.input_pins import sha256_file
     commit, dirty, note = git_state()
     record = {"command": shlex.join(["motoflex", *argv]),
               "package_version": motoflex_ros.__version__,

@@ -15,21 +15,21 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
+import rclpy
+from rclpy.signals import SignalHandlerOptions
+
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.input_pins import InputChanged, check_pins
 from motoflex_ros.launcher.domain import DomainLock, requested_domain
 from motoflex_ros.launcher.graph import NodeDied, NodeGraph, describe_exit
 from motoflex_ros.launcher.interrupts import deferred_interrupts, raise_if_interrupted
-from motoflex_ros.launcher.run_failures import (
-    RunFailed,
-    check_peer_room,
-    peer_room_problem,
-)
+from motoflex_ros.launcher.monitor import Monitor
+from motoflex_ros.launcher.run_failures import RunFailed, check_peer_room
 from motoflex_ros.nodes.dds import configure_dds
+from motoflex_ros.nodes.endpoints import RunEndpoints
 from motoflex_ros.nodes.transport import selected, selected_name
 
-__all__ = ["RunFailed", "RunInterrupted", "RunResult", "run_graph", "work_folder",
-           "ros_log_home", "peer_room_problem", "check_peer_room"]
+__all__ = ["RunInterrupted", "RunResult", "run_graph", "work_folder", "ros_log_home"]
 
 
 class RunInterrupted(MotoflexError):
@@ -138,11 +138,6 @@ def run_graph(specs, pacer, duration_s, work_dir=None, collect=(), progress=Fals
 
 
 def _monitor(graph, pacer, planned, collect, progress, ready_timeout, ending):
-    import rclpy
-    from rclpy.signals import SignalHandlerOptions
-
-    from motoflex_ros.launcher.monitor import Monitor
-    from motoflex_ros.nodes.endpoints import RunEndpoints
     context = rclpy.Context()
     # no log file of this process in ~/.ros/log (the nodes' logs are the run's, in its folder)
     rclpy.init(args=["--ros-args", "--disable-external-lib-logs"], context=context,

@@ -3,7 +3,10 @@
 One module per executable (``ros2 run motoflex_ros <name>`` or the console script of the same
 name); message conversions live in :mod:`.conversions` (message objects), :mod:`.stamps`
 (time), :mod:`.cdr` (the bench's messages as bytes) and :mod:`.result_messages`; the ROS
-transport in :mod:`.transport`; shared plumbing in :mod:`.runtime` and :mod:`.params`.
+transport in :mod:`.transport`. Every node is a :class:`.rig_node.RigNode` (parameters from
+:mod:`.params`, publishers and subscriptions with the QoS of :mod:`.qos_profiles`, readiness)
+and every executable's ``main`` is :func:`.node_main.run_node` (its command line checked by
+:mod:`.node_command_line`).
 
 Executables: ``sim_clock``, ``recorder``, ``bag_replay``, ``load_actuator``,
 ``component_simulator``, ``displacement_sensor``, ``identification`` (with

@@ -13,12 +13,15 @@ import sys
 import time
 
 from motoflex_ros.nodes.cdr import clock_ns_from_cdr
-from motoflex_ros.nodes.interfaces import PACER_TOPICS, RELIABLE, RIG_TOPICS, Topic
+from motoflex_ros.nodes.interfaces import PACER_TOPICS, RELIABLE, RIG_TOPICS, Topic, message_class
+from motoflex_ros.nodes.node_main import run_node
 from motoflex_ros.nodes.pacing import AckGate, ReadyWatch
 from motoflex_ros.nodes.params import Param, ParameterError
-from motoflex_ros.nodes.runtime import RigNode, message_class, publish_patiently, run_node
+from motoflex_ros.nodes.rig_node import RigNode
 from motoflex_ros.nodes.stamps import seconds_to_ns
+from motoflex_ros.nodes.transport import publish_patiently
 from motoflex_ros.record.mcap_bag import bag_info, read_messages
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["BagReplay", "main"]
 
@@ -111,7 +114,7 @@ class BagReplay(RigNode):
         rate = self.params["rate"]
         if rate <= 0:
             return False
-        due = self.started + (log_time_ns - self.info.start_ns) / 1e9 / rate
+        due = self.started + (log_time_ns - self.info.start_ns) / NS_PER_S / rate
         wait = due - time.monotonic()
         if wait > 0:
             time.sleep(min(wait, 0.05))

@@ -23,8 +23,9 @@ from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
 
 from motoflex_ros.bench.actuator import LATERAL_WRENCH, LoadSample, wrench_amplitude
-from motoflex_ros.nodes.stamps import NS_PER_S, time_ns
+from motoflex_ros.nodes.stamps import time_ns
 from motoflex_ros.spatial import quaternion_xyzw
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["clock_ns_from_cdr", "wrench_values", "wrench_cdr", "wrench_vector_from_cdr",
            "wrench_from_cdr", "pose_cdr", "phase_cdr", "phase_text", "is_end_marker",

@@ -18,16 +18,12 @@ from geometry_msgs.msg import PoseArray, WrenchStamped
 from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
+from motoflex_ros.bench.sensor import marker_positions
 from motoflex_ros.frames import bench_transforms, loaded_end_transform
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
-from motoflex_ros.nodes.conversions import (
-    is_end_marker,
-    points_cdr,
-    sample_from_phase,
-    seconds_to_ns,
-    structure_markers,
-)
+from motoflex_ros.nodes.cdr import is_end_marker, points_cdr, sample_from_phase
+from motoflex_ros.nodes.conversions import structure_markers
 from motoflex_ros.nodes.interfaces import (
     LATCHED_LAST,
     LOAD_IN,
@@ -39,9 +35,13 @@ from motoflex_ros.nodes.interfaces import (
     Topic,
 )
 from motoflex_ros.nodes.message_checks import BenchInputs
+from motoflex_ros.nodes.node_main import run_node
 from motoflex_ros.nodes.params import Param
-from motoflex_ros.nodes.runtime import RigNode, latched_qos, run_node
+from motoflex_ros.nodes.qos_profiles import latched_qos
+from motoflex_ros.nodes.rig_node import RigNode
+from motoflex_ros.nodes.stamps import seconds_to_ns
 from motoflex_ros.nodes.tf import TfPublisher
+from motoflex_ros.spatial import rotation_from_vector
 
 __all__ = ["ComponentSimulatorNode", "main"]
 
@@ -93,8 +93,6 @@ class ComponentSimulatorNode(RigNode):
             self.structure_pubs[c] = pub
 
     def _handler(self, component):
-        from motoflex_ros.bench.sensor import marker_positions
-        from motoflex_ros.spatial import rotation_from_vector
         setup = self.setups[component]
         q0 = np.asarray(setup.reduced.q0, float)
         offsets = np.asarray(setup.protocol.sensor.markers, float)

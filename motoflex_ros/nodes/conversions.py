@@ -12,30 +12,18 @@ and the sensor turns every sample's rotation into a quaternion (about 15,000 a c
 import json
 
 import numpy as np
-from geometry_msgs.msg import Pose, PoseArray, PoseStamped, WrenchStamped
+from geometry_msgs.msg import Point, Pose, PoseArray, PoseStamped, TransformStamped, WrenchStamped
+from sensor_msgs.msg import JointState
 from std_msgs.msg import String
+from visualization_msgs.msg import Marker, MarkerArray
 
-from motoflex_ros.nodes.cdr import (
-    is_end_marker,
-    phase_cdr,
-    points_cdr,
-    sample_from_phase,
-    wrench_cdr,
-    wrench_values,
-)
-from motoflex_ros.nodes.result_messages import mode_series, mode_statuses, results_from_statuses
-from motoflex_ros.nodes.stamps import clock_msg, seconds_to_ns, time_msg
+from motoflex_ros.nodes.cdr import wrench_values
+from motoflex_ros.nodes.stamps import time_msg
 from motoflex_ros.spatial import quaternion_xyzw
 
 __all__ = ["wrench_msg", "phase_msg", "points_msg", "points_from_msg", "pose_msg",
            "joint_state_msg", "poses_msg", "axis_marker", "transform_msg",
-           "structure_markers", "qos_dict",
-           # names of old, for the nodes that import them from here (load_actuator,
-           # sim_clock, component_simulator, vehicle_simulator); new code imports them from
-           # .stamps, .cdr and .result_messages
-           "seconds_to_ns", "clock_msg", "is_end_marker", "phase_cdr", "points_cdr",
-           "sample_from_phase", "wrench_cdr", "mode_series", "mode_statuses",
-           "results_from_statuses"]
+           "structure_markers", "qos_dict"]
 
 
 def wrench_msg(ns, frame_id, load):
@@ -92,7 +80,6 @@ def pose_msg(ns, frame_id, position, rotation):
 def joint_state_msg(ns, names, positions, velocities, efforts):
     """sensor_msgs/JointState (efforts always filled: rosbags rejects Fast CDR's trailing
     padding after an empty float64[] at the end of a message)."""
-    from sensor_msgs.msg import JointState
     msg = JointState(name=list(names), position=[float(v) for v in positions],
                      velocity=[float(v) for v in velocities],
                      effort=[float(v) for v in efforts])
@@ -117,8 +104,6 @@ def poses_msg(ns, frame_id, rotations, translations):
 
 def axis_marker(marker_id, frame_id, name, point, axis, length=0.5):
     """visualization_msgs/Marker: an arrow of ``length`` [m] along a joint axis through point."""
-    from geometry_msgs.msg import Point
-    from visualization_msgs.msg import Marker
     start = np.asarray(point, float)
     end = start + length * np.asarray(axis, float) / np.linalg.norm(axis)
     marker = Marker(ns=name, id=marker_id, type=Marker.ARROW, action=Marker.ADD)
@@ -133,7 +118,6 @@ def axis_marker(marker_id, frame_id, name, point, axis, length=0.5):
 def transform_msg(ns, transform):
     """geometry_msgs/TransformStamped of a :class:`motoflex_ros.frames.FrameTransform`
     (header frame: the parent, child_frame_id: the child; what a tf2_msgs/TFMessage holds)."""
-    from geometry_msgs.msg import TransformStamped
     msg = TransformStamped(child_frame_id=transform.child)
     msg.header.stamp = time_msg(ns)
     msg.header.frame_id = transform.parent
@@ -149,8 +133,6 @@ def structure_markers(frame_id, name, node_xyz, elements, radius=0.004):
     """visualization_msgs/MarkerArray of a beam model: its members (LINE_LIST, one segment per
     element between its two nodes) and its nodes (SPHERE_LIST), coordinates [m] in
     ``frame_id``; ``name`` is the markers' namespace."""
-    from geometry_msgs.msg import Point
-    from visualization_msgs.msg import Marker, MarkerArray
     xyz = np.asarray(node_xyz, float)
     members = Marker(ns=f"{name}/members", id=0, type=Marker.LINE_LIST, action=Marker.ADD)
     members.points = [Point(x=float(a), y=float(b), z=float(c))

@@ -14,12 +14,14 @@ import numpy as np
 from geometry_msgs.msg import PoseArray, PoseStamped
 from std_msgs.msg import String
 
+from motoflex_ros.bench.sensor import MarkerSensor
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, SampleJoin, campaign_setups, frame_id
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.cdr import is_end_marker, points_cdr, pose_cdr, sample_from_phase
 from motoflex_ros.nodes.interfaces import PHASE_IN, RELIABLE, RIG_TOPICS, Topic
 from motoflex_ros.nodes.message_checks import BenchInputs
-from motoflex_ros.nodes.runtime import RigNode, run_node
+from motoflex_ros.nodes.node_main import run_node
+from motoflex_ros.nodes.rig_node import RigNode
 
 __all__ = ["DisplacementSensorNode", "main"]
 
@@ -42,7 +44,6 @@ class DisplacementSensorNode(RigNode):
     )
 
     def __init__(self):
-        from motoflex_ros.bench.sensor import MarkerSensor
         super().__init__()
         self.setups = campaign_setups(self.params)
         seed = self.params["seed"]

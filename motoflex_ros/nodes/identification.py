@@ -36,8 +36,10 @@ from motoflex_ros.nodes.interfaces import (
 )
 from motoflex_ros.nodes.measured_identification import MEASURED_TOPICS, MeasuredIdentification
 from motoflex_ros.nodes.measured_inputs import MEASURED_PARAMS
+from motoflex_ros.nodes.node_main import run_node
 from motoflex_ros.nodes.params import Param
-from motoflex_ros.nodes.runtime import RigNode, latched_qos, run_node
+from motoflex_ros.nodes.qos_profiles import latched_qos
+from motoflex_ros.nodes.rig_node import RigNode
 from motoflex_ros.nodes.virtual_identification import VirtualIdentification
 
 __all__ = ["IdentificationNode", "main", "RESULTS_TOPIC"]

@@ -7,17 +7,29 @@ test/test_node_interfaces.py starts every node in-process and holds each declara
 endpoints the node really creates. Names are relative (under the node's namespace, given as
 from the root /); ``{c}`` stands for each component of the parameter ``components``.
 """
+import importlib
 from dataclasses import dataclass
 
-__all__ = ["Topic", "RELIABLE", "LATCHED", "LATCHED_LAST", "SIM_TIME", "READY", "CLOCK_IN",
-           "RIG_TOPICS", "PACER_TOPICS", "ACK_OUT", "TF_STATIC", "TF_DYNAMIC", "PHASE_IN",
-           "LOAD_IN", "topics_help", "expand"]
+__all__ = ["READY_TOPIC", "ACK_TOPIC", "PROGRESS_TOPIC", "message_class", "Topic", "RELIABLE",
+           "LATCHED", "LATCHED_LAST", "SIM_TIME", "READY", "CLOCK_IN", "RIG_TOPICS",
+           "PACER_TOPICS", "ACK_OUT", "TF_STATIC", "TF_DYNAMIC", "PHASE_IN", "LOAD_IN",
+           "topics_help", "expand"]
 
 RELIABLE = "reliable, keep all, volatile"
 LATCHED = "reliable, transient local (latched), last 100"
 LATCHED_LAST = "reliable, transient local (latched), last 1"
 LATCHED_TF = "reliable, transient local (latched), last 1000"
 SIM_TIME = "rclpy's time source (use_sim_time)"
+
+READY_TOPIC = "rig/ready"   # relative: under the node's namespace
+ACK_TOPIC = "rig/ack"
+PROGRESS_TOPIC = "rig/progress"   # KeyValue: component, tests it finished (a few a run)
+
+
+def message_class(type_name):
+    """The rclpy message class of 'pkg/msg/Type' (a :class:`Topic`'s ``msg_type``)."""
+    package, _, name = type_name.split("/")
+    return getattr(importlib.import_module(f"{package}.msg"), name)
 
 
 @dataclass(frozen=True)
@@ -40,19 +52,19 @@ class Topic:
         return [f"/{self.name}"]
 
 
-READY = Topic("pub", "rig/ready", "std_msgs/msg/String", LATCHED,
+READY = Topic("pub", READY_TOPIC, "std_msgs/msg/String", LATCHED,
               "the node's name once its inputs see their publishers (the launcher waits for "
               "every node's)")
 CLOCK_IN = Topic("sub", "clock", "rosgraph_msgs/msg/Clock", SIM_TIME,
                  "simulated time of the run (use_sim_time)")
 RIG_TOPICS = (READY, CLOCK_IN)
 PACER_TOPICS = (
-    Topic("sub", "rig/ready", "std_msgs/msg/String", LATCHED,
+    Topic("sub", READY_TOPIC, "std_msgs/msg/String", LATCHED,
           "which nodes are up: the first sample waits for every node of wait_for"),
-    Topic("sub", "rig/ack", "diagnostic_msgs/msg/KeyValue", RELIABLE,
+    Topic("sub", ACK_TOPIC, "diagnostic_msgs/msg/KeyValue", RELIABLE,
           "acknowledgements (key: node, value: simulated time handled [ns]) that pace the run"),
 )
-ACK_OUT = Topic("pub", "rig/ack", "diagnostic_msgs/msg/KeyValue", RELIABLE,
+ACK_OUT = Topic("pub", ACK_TOPIC, "diagnostic_msgs/msg/KeyValue", RELIABLE,
                 "this node's acknowledgement: key its name, value the simulated time [ns] it "
                 "handled (and 'settled TEST' / 'done')")
 

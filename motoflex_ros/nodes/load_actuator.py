@@ -30,12 +30,21 @@ from std_msgs.msg import String
 
 from motoflex_ros.bench.actuator import PAUSE_S, LoadActuator
 from motoflex_ros.nodes.bench_graph import BENCH_PARAMS, campaign_setups, frame_id, topic
-from motoflex_ros.nodes.conversions import clock_msg, phase_cdr, seconds_to_ns, wrench_cdr
-from motoflex_ros.nodes.interfaces import PACER_TOPICS, RELIABLE, RIG_TOPICS, Topic
+from motoflex_ros.nodes.cdr import phase_cdr, wrench_cdr
+from motoflex_ros.nodes.interfaces import (
+    ACK_TOPIC,
+    PACER_TOPICS,
+    PROGRESS_TOPIC,
+    RELIABLE,
+    RIG_TOPICS,
+    Topic,
+)
+from motoflex_ros.nodes.node_main import run_node
 from motoflex_ros.nodes.pacing import ReadyWatch, StallError
 from motoflex_ros.nodes.params import Param
 from motoflex_ros.nodes.rig_markers import PHASE_CODES, PHASE_VALUE_NAMES, phase_values_msg
-from motoflex_ros.nodes.runtime import ACK_TOPIC, PROGRESS_TOPIC, RigNode, run_node
+from motoflex_ros.nodes.rig_node import RigNode
+from motoflex_ros.nodes.stamps import clock_msg, seconds_to_ns
 
 __all__ = ["LoadActuatorNode", "main", "may_end_test"]
 

@@ -32,6 +32,7 @@ from std_msgs.msg import Empty
 from motoflex_ros.nodes.cdr import points_from_cdr, wrench_vector_from_cdr
 from motoflex_ros.nodes.kept_frames import KeptRows
 from motoflex_ros.nodes.params import Param, ParameterError
+from motoflex_ros.nodes.stamps import time_ns
 
 __all__ = ["MEASURED_PARAMS", "MeasuredInputs", "MARKER_MSGS"]
 
@@ -67,10 +68,6 @@ MEASURED_PARAMS = (
           description="mode measured: most load samples and marker frames kept; beyond, the "
                       "oldest messages are dropped and counted [-]"),
 )
-
-
-def _stamp_ns(msg):
-    return msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
 
 
 class MeasuredInputs:
@@ -175,7 +172,7 @@ class MeasuredInputs:
     def _marker(self, i):
         def callback(msg):
             p = msg.point if hasattr(msg, "point") else msg.pose.position
-            self._keep(self.frames[i], "markers", _stamp_ns(msg), (p.x, p.y, p.z))
+            self._keep(self.frames[i], "markers", time_ns(msg.header.stamp), (p.x, p.y, p.z))
             self._count(f"m{i + 1}")
         return callback
 

@@ -14,6 +14,7 @@ import numpy as np
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.bench_graph import topic
 from motoflex_ros.nodes.cdr import points_from_cdr, wrench_vector_from_cdr
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["BadMessage", "BenchInputs"]
 
@@ -36,13 +37,13 @@ class _TopicCheck:
         """Count a message stamped ``ns`` [ns]; raise if the stamp goes back."""
         self.count += 1
         if self.last_ns is not None and ns < self.last_ns:
-            raise self.bad(ns, "header.stamp", f"{ns / 1e9:.9f} s",
-                           f"goes back from {self.last_ns / 1e9:.9f} s (stamps must not "
+            raise self.bad(ns, "header.stamp", f"{ns / NS_PER_S:.9f} s",
+                           f"goes back from {self.last_ns / NS_PER_S:.9f} s (stamps must not "
                            f"decrease)")
         self.last_ns = ns
 
     def bad(self, ns, field, value, problem):
-        return BadMessage(f"{self.name}: sample {self.count - 1} (stamp {ns / 1e9:.9f} s): "
+        return BadMessage(f"{self.name}: sample {self.count - 1} (stamp {ns / NS_PER_S:.9f} s): "
                           f"{field} = {value} {problem}; message refused, run stopped")
 
 

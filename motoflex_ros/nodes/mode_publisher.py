@@ -7,9 +7,10 @@ std_msgs/Float64MultiArray, latched).
 from diagnostic_msgs.msg import DiagnosticArray
 from std_msgs.msg import Float64MultiArray
 
-from motoflex_ros.nodes.conversions import mode_series, mode_statuses, time_msg
 from motoflex_ros.nodes.interfaces import LATCHED, LATCHED_LAST, Topic
-from motoflex_ros.nodes.runtime import latched_qos
+from motoflex_ros.nodes.qos_profiles import latched_qos
+from motoflex_ros.nodes.result_messages import mode_series, mode_statuses
+from motoflex_ros.nodes.stamps import time_msg
 
 __all__ = ["ModePublisher", "MODE_TOPICS"]
 

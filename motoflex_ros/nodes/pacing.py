@@ -16,9 +16,11 @@ from diagnostic_msgs.msg import KeyValue
 from std_msgs.msg import String
 
 from motoflex_ros.errors import MotoflexError
-from motoflex_ros.nodes.runtime import ACK_TOPIC, MATCH_TIMEOUT_S, READY_TOPIC, latched_qos
+from motoflex_ros.nodes.interfaces import ACK_TOPIC, READY_TOPIC
+from motoflex_ros.nodes.qos_profiles import latched_qos
+from motoflex_ros.nodes.rig_node import MATCH_TIMEOUT_S
 
-__all__ = ["AckGate", "ReadyWatch", "StallError", "Waiting", "MATCH_TIMEOUT_S",
+__all__ = ["AckGate", "ReadyWatch", "StallError", "Waiting",
            "WAIT_LOG_PERIOD_S"]
 
 WAIT_LOG_PERIOD_S = 5.0  # a waiting node says what it waits for this often [s]

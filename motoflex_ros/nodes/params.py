@@ -11,6 +11,9 @@ import math
 import sys
 from dataclasses import dataclass
 
+import yaml
+from rcl_interfaces.msg import ParameterDescriptor
+
 from motoflex_ros.config import shown
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.ros_args import wildcard_only_names
@@ -94,8 +97,6 @@ def declare_parameters(node, params, argv=None):
     section gives are ignored. ``argv`` is the command line rclpy.init read (default
     ``sys.argv``).
     """
-    from rcl_interfaces.msg import ParameterDescriptor
-
     known = {p.name for p in params}
     unknown = sorted(set(node._parameter_overrides) - known - BUILTIN_PARAMETERS
                      - {n for n in node._parameter_overrides if n.startswith("qos_overrides.")})
@@ -131,7 +132,6 @@ def _default_text(param):
 
 def _yaml_value(value):
     """A default as YAML flow text ('' for an empty string, [a, b] for a list)."""
-    import yaml
     value = list(value) if isinstance(value, tuple) else value
     return yaml.safe_dump(value, default_flow_style=True).removesuffix("\n...\n").strip()
 

@@ -25,12 +25,16 @@ the bag as /tf and /tf_static (tf2_msgs/msg/TFMessage: :mod:`motoflex_ros.record
 import sys
 import time
 
+from rclpy.qos import DurabilityPolicy
+
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.cdr import clock_ns_from_cdr
 from motoflex_ros.nodes.conversions import qos_dict
-from motoflex_ros.nodes.interfaces import RELIABLE, RIG_TOPICS, Topic
+from motoflex_ros.nodes.interfaces import RELIABLE, RIG_TOPICS, Topic, message_class
+from motoflex_ros.nodes.node_main import run_node
 from motoflex_ros.nodes.params import Param, ParameterError
-from motoflex_ros.nodes.runtime import RigNode, message_class, reliable_qos, run_node
+from motoflex_ros.nodes.qos_profiles import reliable_qos
+from motoflex_ros.nodes.rig_node import RigNode
 from motoflex_ros.record.log_time import SimLogTime
 from motoflex_ros.record.mcap_bag import BagWriter
 from motoflex_ros.record.tf_bag import LIVE_TYPE as TF_LIVE_TYPE
@@ -159,7 +163,6 @@ class Recorder(RigNode):
     @staticmethod
     def _qos_for(offered):
         """Reliable keep-all, transient local if every offered profile is (as rosbag2)."""
-        from rclpy.qos import DurabilityPolicy
         qos = reliable_qos()
         if all(p["durability"] == DurabilityPolicy.TRANSIENT_LOCAL.value for p in offered):
             qos.durability = DurabilityPolicy.TRANSIENT_LOCAL

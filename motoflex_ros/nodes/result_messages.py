@@ -12,10 +12,11 @@ import numpy as np
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension
 
+from motoflex_ros.identify.results import MODEL_TESTS
 from motoflex_ros.units import ms_to_kmh
 
 __all__ = ["identification_statuses", "results_from_statuses", "series_msg",
-           "IDENTIFIED_MODELS", "IDENTIFIED_UNITS", "identified_series", "mode_statuses",
+           "IDENTIFIED_UNITS", "identified_series", "mode_statuses",
            "mode_series"]
 
 
@@ -129,15 +130,14 @@ def series_msg(values, label):
     return msg
 
 
-IDENTIFIED_MODELS = ("static", "torsion", "bending")
 IDENTIFIED_UNITS = {"k": "N m/rad", "l": "m", "beta": "rad"}
 
 
 def identified_series(result_dict):
     """{quantity: Float64MultiArray} of a component's result dict: k [N m/rad], l [m] and
     beta [rad] of the static, torsion and bending models, in that order."""
-    return {q: series_msg([result_dict.get(m, {}).get(q) for m in IDENTIFIED_MODELS],
-                          f"{q} [{unit}] of the models {', '.join(IDENTIFIED_MODELS)}")
+    return {q: series_msg([result_dict.get(m, {}).get(q) for m in MODEL_TESTS],
+                          f"{q} [{unit}] of the models {', '.join(MODEL_TESTS)}")
             for q, unit in IDENTIFIED_UNITS.items()}
 
 

@@ -7,10 +7,12 @@ the model's wheels); this module only builds messages.
 """
 import numpy as np
 from geometry_msgs.msg import Point
+from std_msgs.msg import Header
 from visualization_msgs.msg import Marker, MarkerArray
 
 from motoflex_ros.frames import body_frame
-from motoflex_ros.nodes.conversions import joint_state_msg, time_msg
+from motoflex_ros.nodes.conversions import joint_state_msg
+from motoflex_ros.nodes.stamps import time_msg
 from motoflex_ros.vehicle.outline import body_attachments
 
 __all__ = ["PHASE_CODES", "PHASE_VALUE_NAMES", "phase_values_msg", "motorcycle_markers"]
@@ -34,7 +36,6 @@ def phase_values_msg(ns, test_number, sample):
 
 
 def _header(ns, frame_id):
-    from std_msgs.msg import Header
     return Header(stamp=time_msg(ns), frame_id=frame_id)
 
 

@@ -16,18 +16,13 @@ from sensor_msgs.msg import JointState
 from visualization_msgs.msg import Marker, MarkerArray
 
 from motoflex_ros.frames import ODOM_FRAME, VEHICLE_FRAME, body_com_poses, vehicle_transforms
-from motoflex_ros.nodes.conversions import (
-    axis_marker,
-    clock_msg,
-    joint_state_msg,
-    poses_msg,
-    seconds_to_ns,
-    time_msg,
-)
+from motoflex_ros.nodes.conversions import axis_marker, joint_state_msg, poses_msg
 from motoflex_ros.nodes.interfaces import LATCHED, LATCHED_LAST, RELIABLE, TF_DYNAMIC, Topic
+from motoflex_ros.nodes.qos_profiles import latched_qos
 from motoflex_ros.nodes.rig_markers import motorcycle_markers
-from motoflex_ros.nodes.runtime import latched_qos, publish_patiently
+from motoflex_ros.nodes.stamps import clock_msg, seconds_to_ns, time_msg
 from motoflex_ros.nodes.tf import TfPublisher
+from motoflex_ros.nodes.transport import publish_patiently
 
 __all__ = ["RoadPublisher", "ROAD_TOPICS", "ROAD_PAUSE_S"]
 

@@ -10,11 +10,12 @@ import sys
 
 from rosgraph_msgs.msg import Clock
 
-from motoflex_ros.nodes.conversions import clock_msg, seconds_to_ns
 from motoflex_ros.nodes.interfaces import PACER_TOPICS, READY, RELIABLE, Topic
+from motoflex_ros.nodes.node_main import run_node
 from motoflex_ros.nodes.pacing import AckGate, ReadyWatch
 from motoflex_ros.nodes.params import Param
-from motoflex_ros.nodes.runtime import RigNode, run_node
+from motoflex_ros.nodes.rig_node import RigNode
+from motoflex_ros.nodes.stamps import clock_msg, seconds_to_ns
 
 __all__ = ["SimClock", "main"]
 

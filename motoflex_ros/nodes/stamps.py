@@ -2,9 +2,9 @@
 from builtin_interfaces.msg import Time
 from rosgraph_msgs.msg import Clock
 
-__all__ = ["NS_PER_S", "seconds_to_ns", "time_msg", "time_ns", "clock_msg"]
+from motoflex_ros.units import NS_PER_S
 
-NS_PER_S = 1_000_000_000
+__all__ = ["seconds_to_ns", "time_msg", "time_ns", "clock_msg"]
 
 
 def seconds_to_ns(seconds):

@@ -7,10 +7,11 @@ tf_bag`: rclpy from PyPI has no tf2_msgs).
 from geometry_msgs.msg import TransformStamped
 
 from motoflex_ros.nodes.conversions import transform_msg
-from motoflex_ros.nodes.runtime import latched_qos, publish_patiently
+from motoflex_ros.nodes.qos_profiles import latched_qos
+from motoflex_ros.nodes.transport import publish_patiently
 from motoflex_ros.record.tf_bag import TF_LIVE, TF_STATIC_LIVE
 
-__all__ = ["TF_LIVE", "TF_STATIC_LIVE", "TfPublisher"]
+__all__ = ["TfPublisher"]
 STATIC_DEPTH = 1000   # static transforms a late subscriber still gets (one per message)
 
 

@@ -32,6 +32,7 @@ from rclpy.serialization import deserialize_message
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.nodes.endpoints import GID_SIZE
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["Taker", "Spinner", "publisher_gid", "check_versions", "installed_versions",
            "CHECKED_VERSIONS"]
@@ -233,7 +234,7 @@ class Spinner:
                                                         context.handle)
                 for sub in subs:
                     wait_set.add_subscription(sub.handle)
-                wait_set.wait(int(timeout_s * 1e9))
+                wait_set.wait(int(timeout_s * NS_PER_S))
                 ready = set(wait_set.get_ready_entities("subscription"))
             subs = [sub for sub in subs if sub.handle.pointer in ready]
         return sum(self._drain(sub) for sub in subs)

@@ -25,13 +25,16 @@ from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.frames import road_transform
 from motoflex_ros.nodes.interfaces import LATCHED, RIG_TOPICS, TF_STATIC, Topic
 from motoflex_ros.nodes.mode_publisher import MODE_TOPICS, ModePublisher
+from motoflex_ros.nodes.node_main import run_node
 from motoflex_ros.nodes.pacing import Waiting
 from motoflex_ros.nodes.params import Param, ParameterError
+from motoflex_ros.nodes.qos_profiles import latched_qos
 from motoflex_ros.nodes.result_messages import results_from_statuses
+from motoflex_ros.nodes.rig_node import RigNode
 from motoflex_ros.nodes.road_publisher import ROAD_PAUSE_S, ROAD_TOPICS, RoadPublisher
-from motoflex_ros.nodes.runtime import RigNode, latched_qos, run_node
 from motoflex_ros.nodes.stamps import seconds_to_ns, time_ns
 from motoflex_ros.nodes.tf import TfPublisher
+from motoflex_ros.units import KMH_PER_MS
 
 __all__ = ["VehicleSimulatorNode", "main"]
 
@@ -124,11 +127,12 @@ class VehicleSimulatorNode(RigNode):
                               self.components)
         lin = linearize(model)
         speeds = np.arange(p["speed_min_kmh"], p["speed_max_kmh"] + 1e-9,
-                           p["speed_step_kmh"]) / 3.6
+                           p["speed_step_kmh"]) / KMH_PER_MS
         sweep = modal_sweep(lin, speeds)
         start_ns = self.bench_end_ns + seconds_to_ns(ROAD_PAUSE_S) if self.bench_end_ns else 0
         self.modes.publish(speeds, sweep.modes, start_ns)
-        self.road.publish(lin, model, p["road_speed_kmh"] / 3.6, p["bodies_rate_hz"], start_ns)
+        self.road.publish(lin, model, p["road_speed_kmh"] / KMH_PER_MS, p["bodies_rate_hz"],
+                          start_ns)
         self.get_logger().info(f"vehicle: {len(speeds)} speeds, road test published")
 
 

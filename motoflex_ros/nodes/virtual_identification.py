@@ -23,15 +23,17 @@ from motoflex_ros.identify.results import identify_component
 from motoflex_ros.nodes.bench_graph import SampleJoin, campaign_setups
 from motoflex_ros.nodes.bench_graph import topic as bench_topic
 from motoflex_ros.nodes.cdr import is_end_marker, sample_from_phase
+from motoflex_ros.nodes.interfaces import ACK_TOPIC
 from motoflex_ros.nodes.load_actuator import may_end_test
 from motoflex_ros.nodes.message_checks import BenchInputs
+from motoflex_ros.nodes.qos_profiles import latched_qos
 from motoflex_ros.nodes.result_messages import (
     IDENTIFIED_UNITS,
     identification_statuses,
     identified_series,
 )
-from motoflex_ros.nodes.runtime import ACK_TOPIC, latched_qos
 from motoflex_ros.nodes.stamps import time_msg
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["VirtualIdentification", "ComponentStream", "DONE"]
 
@@ -72,7 +74,7 @@ class ComponentStream:
         stamp_ns, points = self.checked.markers("markers/measured", data)
         settled = []
         for chunk in np.split(points, len(points) // n) if len(points) else []:
-            measurement = self.fitter.measurement(self.count, stamp_ns / 1e9, chunk)
+            measurement = self.fitter.measurement(self.count, stamp_ns / NS_PER_S, chunk)
             self.count += 1
             done = self.identifier.add_measurement(measurement)
             if done:

@@ -8,6 +8,7 @@ import numpy as np  # noqa: E402
 
 from motoflex_ros.plots.vehicle import save_png  # noqa: E402
 from motoflex_ros.units import ms_to_kmh  # noqa: E402
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 
 __all__ = ["plot_mode_curves"]
 
@@ -25,7 +26,7 @@ def plot_mode_curves(speeds, curves, path, models=("flexible", "state_of_the_art
     """
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex=True)
     kmh = ms_to_kmh(speeds)
-    for col, mode in enumerate(("weave", "wobble")):
+    for col, mode in enumerate(STUDIED_MODES):
         for model in models:
             values = np.asarray(curves[model][mode])
             style = _STYLE.get(model, {})

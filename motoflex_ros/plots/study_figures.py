@@ -8,7 +8,9 @@ import numpy as np  # noqa: E402
 
 from motoflex_ros.plots.labels import QUANTITY_LABELS, VARIANT_LABELS  # noqa: E402
 from motoflex_ros.plots.vehicle import save_png  # noqa: E402
+from motoflex_ros.study.stability_index import RANGE_NAMES  # noqa: E402
 from motoflex_ros.units import ms_to_kmh  # noqa: E402
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 
 __all__ = ["plot_pearson_bars", "plot_accuracy_bars", "plot_stability_curves",
            "pearson_bars_figure", "accuracy_bars_figure"]
@@ -35,7 +37,7 @@ def _grouped_bars(ax, groups, series, zero_line=True):
     return containers
 
 
-def pearson_bars_figure(pearson, modes=("weave", "wobble"), ranges=("low", "high")):
+def pearson_bars_figure(pearson, modes=STUDIED_MODES, ranges=RANGE_NAMES):
     """Fig. 10: Pearson coefficient of every stiffness with the weave and wobble indices.
 
     ``pearson`` is {"<mode>_<range>": {factor: rho}} as from
@@ -55,7 +57,7 @@ def pearson_bars_figure(pearson, modes=("weave", "wobble"), ranges=("low", "high
     return fig
 
 
-def plot_pearson_bars(pearson, path, modes=("weave", "wobble"), ranges=("low", "high")):
+def plot_pearson_bars(pearson, path, modes=STUDIED_MODES, ranges=RANGE_NAMES):
     """Write :func:`pearson_bars_figure` as PNG to ``path``; returns the path."""
     return save_png(pearson_bars_figure(pearson, modes, ranges), path)
 

@@ -10,6 +10,7 @@ import numpy as np  # noqa: E402
 
 from motoflex_ros.files import atomic_save_figure  # noqa: E402
 from motoflex_ros.units import ms_to_kmh  # noqa: E402
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 
 __all__ = ["plot_modal_sweep", "save_png"]
 
@@ -46,7 +47,7 @@ def _root_locus(sweep, title):
 def _modes_over_speed(sweep, title):
     fig, axes = plt.subplots(2, 2, figsize=(9, 6), sharex=True)
     kmh = ms_to_kmh(sweep.speeds)
-    for col, name in enumerate(("weave", "wobble")):
+    for col, name in enumerate(STUDIED_MODES):
         axes[0, col].plot(kmh, sweep.frequency_hz(name), "o-", ms=3)
         axes[0, col].set_ylabel(f"{name} frequency [Hz]")
         axes[1, col].plot(kmh, sweep.real_part(name), "o-", ms=3)

@@ -14,10 +14,11 @@ took for it. So the recorder writes each message at the simulated instant it des
 import functools
 import struct
 
+from motoflex_ros.units import NS_PER_S
+
 __all__ = ["STAMP_TYPES", "is_stamped", "stamp_ns", "SimLogTime"]
 
 STAMP_TYPES = frozenset({"std_msgs/msg/Header", "builtin_interfaces/msg/Time"})
-NS_PER_S = 1_000_000_000
 
 
 @functools.cache

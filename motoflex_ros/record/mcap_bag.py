@@ -33,6 +33,7 @@ from mcap.writer import CompressionType, Writer
 
 from motoflex_ros.errors import MotoflexError
 from motoflex_ros.files import atomic_write_bytes, file_kind, open_output
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["BagError", "TopicInfo", "BagInfo", "BagMessage", "BagWriter", "message_definition",
            "type_hash", "bag_info", "read_messages", "repair", "find_mcap", "METADATA_FILE",
@@ -68,7 +69,7 @@ def qos_yaml(profiles):
         out = {}
         for key, value in profile.items():
             if key in ("deadline", "lifespan", "liveliness_lease_duration"):
-                sec, nsec = divmod(int(value), 1_000_000_000)
+                sec, nsec = divmod(int(value), NS_PER_S)
                 value = {"sec": sec, "nsec": nsec}
             out[key] = value
         return out

@@ -28,6 +28,7 @@ from motoflex_ros.identify.measurements import (
     frames_of_marker_streams,
     stream_measurements,
 )
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["read_bag", "write_bag", "bag_topics", "WRENCH", "POSE_ARRAY", "POINT", "POSE",
            "MARKER_TYPES"]
@@ -47,7 +48,7 @@ def _typestore():
 
 
 def _stamp_ns(msg):
-    return int(msg.header.stamp.sec) * 1_000_000_000 + int(msg.header.stamp.nanosec)
+    return int(msg.header.stamp.sec) * NS_PER_S + int(msg.header.stamp.nanosec)
 
 
 def bag_topics(path):
@@ -178,8 +179,8 @@ def write_bag(path, load_t, wrench, marker_t, markers, load_topic, markers_topic
     quat, pose_t = types["geometry_msgs/msg/Quaternion"], types["geometry_msgs/msg/Pose"]
 
     def head(t):
-        ns = int(round(t * 1e9))
-        return header(stamp=stamp(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000),
+        ns = int(round(t * NS_PER_S))
+        return header(stamp=stamp(sec=ns // NS_PER_S, nanosec=ns % NS_PER_S),
                       frame_id=frame_id), ns
 
     def pose(p):

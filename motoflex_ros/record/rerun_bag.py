@@ -51,6 +51,7 @@ from motoflex_ros.record.rerun_bag_vehicle import (
     vec,
 )
 from motoflex_ros.record.rerun_blueprint import default_blueprint
+from motoflex_ros.units import NS_PER_S
 
 __all__ = ["convert_bag", "rrd_path_of", "run_identification", "BENCH_TOPIC", "decode",
            "COMPONENTS_FILE"]
@@ -86,7 +87,7 @@ def _stamp_ns(msg):
     header = getattr(msg, "header", None)
     if header is None:
         return None
-    return header.stamp.sec * 1_000_000_000 + header.stamp.nanosec
+    return header.stamp.sec * NS_PER_S + header.stamp.nanosec
 
 
 def _collect(bag_dir):

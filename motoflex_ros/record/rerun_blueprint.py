@@ -17,6 +17,7 @@ import rerun.blueprint as rrb
 from motoflex_ros.record.rerun_log import IDENTIFIED_QUANTITIES, TIMELINE, quantity_of
 from motoflex_ros.record.rerun_motorcycle import MODE_SPACING_M
 from motoflex_ros.record.rerun_vehicle import STABILITY_QUANTITIES
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 
 __all__ = ["default_blueprint", "default_tabs", "viewer_panels", "tab_views", "TRACKED_BODY"]
 
@@ -84,7 +85,7 @@ def _identification_tab(paths):
 
 def _stability_views(paths):
     """Bar charts of each mode's real part and frequency over speed [km/h]."""
-    modes = [m for m in ("weave", "wobble")
+    modes = [m for m in STUDIED_MODES
              if f"/vehicle/stability/{m}/real_part" in paths]
     return [rrb.BarChartView(origin=f"/vehicle/stability/{m}/{q}",
                              name=f"{m} {label} / km/h",

@@ -6,10 +6,9 @@ mass against the smallest stability margin, each number linked to its place in d
 """
 from motoflex_ros.report.html import Figure, Note
 from motoflex_ros.report.tables import Cell, Table, json_cell
+from motoflex_ros.study.stability_index import INDEX_NAMES
 
-__all__ = ["design_parts", "DESIGN_INDICES"]
-
-DESIGN_INDICES = ("weave_low", "weave_high", "wobble_low", "wobble_high")
+__all__ = ["design_parts"]
 
 
 def _row(design, file, label, *path):
@@ -17,7 +16,7 @@ def _row(design, file, label, *path):
     for key in path:
         point = point[key]
     cells = [Cell(label), json_cell(design, file, *path, "mass_kg", spec=".3f")]
-    cells += [json_cell(design, file, *path, "indices", n, spec=".4f") for n in DESIGN_INDICES]
+    cells += [json_cell(design, file, *path, "indices", n, spec=".4f") for n in INDEX_NAMES]
     if "full_check" in point and point["full_check"] is not None:
         cells.append(json_cell(design, file, *path, "full_check", "max_abs_difference",
                                spec=".1e"))
@@ -33,7 +32,7 @@ def design_parts(design, file="design.json"):
         rows.append(_row(design, file, "lightest feasible", "lightest_feasible"))
     rows += [_row(design, file, f"Pareto {i}", "pareto", i)
              for i in range(len(design.get("pareto", [])))]
-    header = ("design", "mass [kg]", *DESIGN_INDICES, "full check |diff|")
+    header = ("design", "mass [kg]", *INDEX_NAMES, "full check |diff|")
     parts = [Table("design", "Designs: structural mass of the members and the stability "
                    "indices (eq. 15)", header, tuple(rows),
                    "full check: largest difference of the indices from a full re-reduction "

@@ -17,6 +17,7 @@ from motoflex_ros.plots.component_figure import mode_drawing
 from motoflex_ros.plots.labels import VARIANT_LABELS  # noqa: E402
 from motoflex_ros.plots.study_figures import accuracy_bars_figure, pearson_bars_figure
 from motoflex_ros.units import ms_to_kmh  # noqa: E402
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 
 __all__ = ["png_of", "component_modes_figure", "axes_figure", "fig9_figure", "fig8_figure",
            "fig10_figure", "component_model", "modes_plot", "DPI"]
@@ -109,7 +110,7 @@ def fig9_figure(variants):
     """Fig. 9: weave and wobble frequency and real part against speed, front assembly flexible
     only, per model variant (``variants``: {variant: eig JSON})."""
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex=True)
-    for col, mode in enumerate(("weave", "wobble")):
+    for col, mode in enumerate(STUDIED_MODES):
         for variant, eig in variants.items():
             speeds, real, freq = _mode_curve(eig, mode)
             style = {"lw": 2.5, "color": "black"} if variant == "flexible" else {"lw": 1.2}

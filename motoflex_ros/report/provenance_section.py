@@ -17,11 +17,12 @@ from motoflex_ros.launcher.provenance import (
     utc_stamp,
 )
 from motoflex_ros.launcher.status import STATUS_FILE, read_status
+from motoflex_ros.record.mcap_bag import METADATA_FILE
 from motoflex_ros.report.tables import Cell, Table
+from motoflex_ros.units import NS_PER_S
 
-__all__ = ["provenance_table", "NOT_RECORDED", "METADATA_FILE"]
+__all__ = ["provenance_table", "NOT_RECORDED"]
 
-METADATA_FILE = "metadata.yaml"
 NOT_RECORDED = "not recorded"
 
 
@@ -43,7 +44,8 @@ def _bag_rows(folder):
         return [(f, None, why) for f in fields]
     try:
         start_ns = info["starting_time"]["nanoseconds_since_epoch"]
-        values = (utc_stamp(start_ns / 1e9), f"{info['duration']['nanoseconds'] / 1e9:.2f}",
+        start = utc_stamp(start_ns / NS_PER_S)
+        values = (start, f"{info['duration']['nanoseconds'] / NS_PER_S:.2f}",
                   int(info["message_count"]), _plain(info.get("ros_distro")))
     except (KeyError, TypeError, ValueError, OverflowError, OSError) as exc:
         why = f"{METADATA_FILE} unreadable (no valid {exc})" if isinstance(exc, KeyError) \

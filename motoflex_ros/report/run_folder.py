@@ -1,13 +1,16 @@
 """What a run folder is: bags/<run>/ holding a recorded bag, a rerun recording or run outputs."""
+import json
 from pathlib import Path
 
 from motoflex_ros.errors import MotoflexError
+from motoflex_ros.input_pins import sha256_file
+from motoflex_ros.record.mcap_bag import METADATA_FILE, BagError, bag_info
 
 __all__ = ["RunFolderError", "run_folder", "RUN_MARKERS", "RUN_RESULT", "is_recorded_run",
            "run_problems"]
 
 # any of these makes a directory a run folder (the bag's metadata, the verbs' JSON outputs)
-RUN_MARKERS = ("metadata.yaml", "components.json", "identify.json", "identification.json",
+RUN_MARKERS = (METADATA_FILE, "components.json", "identify.json", "identification.json",
                "eig.json",
                "accuracy.json", "sensitivity.json", "timings.json")
 
@@ -25,7 +28,7 @@ def run_folder(path):
     has_rrd = (path / f"{path.name}.rrd").is_file()
     if has_rrd or any((path / name).is_file() for name in RUN_MARKERS):
         return path
-    raise RunFolderError(f"{path}: not a run folder (none of metadata.yaml, {path.name}.rrd or "
+    raise RunFolderError(f"{path}: not a run folder (none of {METADATA_FILE}, {path.name}.rrd or "
                          "the verbs' JSON outputs is there)")
 
 
@@ -36,7 +39,7 @@ RUN_RESULT = "identification.json"
 def is_recorded_run(folder):
     """Does ``folder`` hold a recorded run (a bag or a status.json), not only verbs' outputs?"""
     folder = Path(folder)
-    return any((folder / name).is_file() for name in ("metadata.yaml", "status.json")) or \
+    return any((folder / name).is_file() for name in (METADATA_FILE, "status.json")) or \
         any(folder.glob("*.mcap"))
 
 
@@ -58,7 +61,6 @@ def run_problems(folder):
 
 
 def _json_file(folder, name, problems, absent):
-    import json
     path = folder / name
     if not path.is_file():
         problems.append(absent)
@@ -100,8 +102,6 @@ def _bag_problems(folder, provenance):
     """The bag's problems: as the run recorded it when provenance.json has its SHA-256 (one
     pass of hashing, about 1 GB/s; any flipped bit shows), else every chunk's CRC read; a
     bag that differs is then read chunk by chunk to say where it is damaged."""
-    from motoflex_ros.input_pins import sha256_file
-    from motoflex_ros.record.mcap_bag import BagError, bag_info
     recorded = (provenance or {}).get("bag")
     recorded = recorded.get("sha256") if isinstance(recorded, dict) else None
     try:

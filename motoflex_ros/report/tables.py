@@ -17,16 +17,15 @@ from motoflex_ros.structures.paper_tables import (
 )
 from motoflex_ros.study.accuracy import QUANTITIES
 from motoflex_ros.study.factorial import FACTORS
+from motoflex_ros.study.stability_index import INDEX_NAMES
 
 __all__ = ["Cell", "Table", "components_table", "table1", "table2", "identification_table",
            "whipple_table", "accuracy_table", "anova_table", "pearson_table", "timings_table",
-           "percent_difference", "VARIANTS", "QUANTITIES", "INDICES", "FACTORS",
-           "DEVIATION_FLAG_PERCENT", "TIMING_FLOOR_S", "flagged_count", "SYMBOLS_NOTE",
-           "json_cell",
-           "paper_cell", "diff_cell", "ASSUMED_C_NOTE"]
+           "percent_difference", "VARIANTS", "DEVIATION_FLAG_PERCENT",
+           "TIMING_FLOOR_S", "flagged_count", "SYMBOLS_NOTE", "json_cell", "paper_cell",
+           "diff_cell", "ASSUMED_C_NOTE"]
 
 VARIANTS = ("state_of_the_art", "static", "torsion", "bending", "principal")
-INDICES = ("weave_low", "weave_high", "wobble_low", "wobble_high")
 
 
 @dataclass(frozen=True)
@@ -272,14 +271,14 @@ def accuracy_table(accuracy):
 def anova_table(sensitivity):
     """Share of the index variance explained by main effects (ANOVA, Sect. 4.3)."""
     rows = tuple((Cell(i), json_cell(sensitivity, "sensitivity.json", "anova_main_share", i))
-                 for i in INDICES)
+                 for i in INDEX_NAMES)
     return Table("anova", "ANOVA: share of main effects", ("index", "main-effect share"), rows)
 
 
 def pearson_table(sensitivity):
     """Pearson coefficients (eqs. 16-17) per index and stiffness (the numbers of Fig. 10)."""
     rows = tuple((Cell(i), *(json_cell(sensitivity, "sensitivity.json", "pearson", i, f,
-                                       spec="+.3f") for f in FACTORS)) for i in INDICES)
+                                       spec="+.3f") for f in FACTORS)) for i in INDEX_NAMES)
     return Table("pearson", "Pearson correlation coefficients (Fig. 10)", ("index", *FACTORS),
                  rows, "Three decimals throughout; +1: a stiffer part damps the mode more.")
 

@@ -7,6 +7,7 @@ of stable modes are negative and the paper's errors (Fig. 8) are positive percen
 import numpy as np
 
 from motoflex_ros.errors import ModelError
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 
 __all__ = ["QUANTITIES", "rms_error_percent", "weave_wobble_errors"]
 
@@ -83,7 +84,7 @@ def weave_wobble_errors(lumped, flexible):
 
     """
     out = {}
-    for mode in ("weave", "wobble"):
+    for mode in STUDIED_MODES:
         lu = np.asarray(lumped[mode])
         fl = np.broadcast_to(np.asarray(flexible[mode]), lu.shape)
         out[f"{mode}_f"] = rms_error_percent(lu.imag / (2 * np.pi), fl.imag / (2 * np.pi))

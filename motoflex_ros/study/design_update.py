@@ -48,14 +48,13 @@ from motoflex_ros.vehicle.dynamics import (
     positions,
     residual,
 )
+from motoflex_ros.vehicle.linearize import COMPLEX_STEP, FIT_SPEEDS
 from motoflex_ros.vehicle.superelement import BoundSuperelement, coordinate_names, superelement_of
 from motoflex_ros.vehicle.variants import flexible_vehicle
 
 __all__ = ["ElementTerms", "DesignEngine", "design_superelement", "design_engine",
            "recorded_linearization"]
 
-_STEP = 1e-30
-_FIT_SPEEDS = (1.0, 2.0, 3.0)
 
 
 def design_superelement(component, n_modes):
@@ -102,19 +101,19 @@ def _linearize_recording(system, v, recorders):
     G_ref = constraint_matrix(system, q_ref)
     for k in range(n):
         step = np.zeros(n, complex)
-        step[k] = 1j * _STEP
-        E[:, k] = residual(system, step, zero, v, q=q_ref, G=G_ref).imag / _STEP
+        step[k] = 1j * COMPLEX_STEP
+        E[:, k] = residual(system, step, zero, v, q=q_ref, G=G_ref).imag / COMPLEX_STEP
         q = positions(system, step, newton_steps=1) if k < len(system.indep_pos) else q_ref
         A[:, k] = -residual(system, zero, step, v, q=q,
-                            G=None if k < len(system.indep_pos) else G_ref).imag / _STEP
+                            G=None if k < len(system.indep_pos) else G_ref).imag / COMPLEX_STEP
     calls = {}
     for name, rec in recorders.items():
         got = np.array(rec.calls)                       # (2 n, frames, 6)
         if got.shape[0] != 2 * n:
             raise ModelError(f"superelement '{name}' was evaluated {got.shape[0]} times for "
                              f"{2 * n} columns")
-        calls[name] = (np.moveaxis(got[0::2], 0, -1) / _STEP,
-                       -np.moveaxis(got[1::2], 0, -1) / _STEP)
+        calls[name] = (np.moveaxis(got[0::2], 0, -1) / COMPLEX_STEP,
+                       -np.moveaxis(got[1::2], 0, -1) / COMPLEX_STEP)
         rec.calls.clear()
     return E, A, calls
 
@@ -132,10 +131,10 @@ def _partial_velocities(system):
 
 
 def _fit(values):
-    """Speed-polynomial coefficients (degree + 1, ...) of values at _FIT_SPEEDS."""
-    vander = np.vander(np.asarray(_FIT_SPEEDS), len(_FIT_SPEEDS), increasing=True)
+    """Speed-polynomial coefficients (degree + 1, ...) of values at FIT_SPEEDS."""
+    vander = np.vander(np.asarray(FIT_SPEEDS), len(FIT_SPEEDS), increasing=True)
     stacked = np.array(values)
-    coeffs = np.linalg.solve(vander, stacked.reshape(len(_FIT_SPEEDS), -1))
+    coeffs = np.linalg.solve(vander, stacked.reshape(len(FIT_SPEEDS), -1))
     return coeffs.reshape(stacked.shape)
 
 
@@ -216,7 +215,7 @@ def recorded_linearization(model, names):
     bound = tuple(recorders.get(getattr(b, "element", None) and b.element.name, b)
                   for b in system.elements)
     recording = replace(system, elements=bound)
-    runs = [_linearize_recording(recording, v, recorders) for v in _FIT_SPEEDS]
+    runs = [_linearize_recording(recording, v, recorders) for v in FIT_SPEEDS]
     S = _partial_velocities(system)
     terms = {name: _terms(system, rec, [r[2][name] for r in runs], S)
              for name, rec in recorders.items()}

@@ -53,6 +53,7 @@ from motoflex_ros.study.hinge_pencil import HingePencil
 from motoflex_ros.study.tracked import HomotopyStart
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.linearize import linearize
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 from motoflex_ros.vehicle.modes import modal_sweep
 
 __all__ = ["HingeFitProblem", "objective_of", "STEPS", "PERTURBATIONS", "TIE_BREAK",
@@ -115,7 +116,7 @@ class HingeFitProblem:
         self.tie_break_weight = float(tie_break)
         self.names = tuple(names)
         self.speeds = np.asarray(speeds, float)
-        self.reference = {m: np.asarray(reference[m], complex) for m in ("weave", "wobble")}
+        self.reference = {m: np.asarray(reference[m], complex) for m in STUDIED_MODES}
         for mode, curve in self.reference.items():
             if curve.shape != self.speeds.shape or not np.all(np.isfinite(curve)):
                 raise ModelError(f"the flexible reference's {mode} must be tracked at every "
@@ -124,7 +125,7 @@ class HingeFitProblem:
         self.static = {n: static_hinge(identified, n, self.sites[n]) for n in self.names}
         self.pencil = HingePencil(vehicle, components, identified, self.names)
         sweep = modal_sweep(linearize(self.pencil.base), self.speeds[:1])
-        targets = tuple(complex(sweep.modes[m][0]) for m in ("weave", "wobble"))
+        targets = tuple(complex(sweep.modes[m][0]) for m in STUDIED_MODES)
         if not all(np.isfinite(t) for t in targets):
             raise ModelError(f"the static motorcycle ({', '.join(self.names)}) has no weave or "
                              "wobble at the first speed")

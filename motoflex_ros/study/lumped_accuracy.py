@@ -41,6 +41,7 @@ from motoflex_ros.study.load_variants import (
 )
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.lumped import COMPONENTS
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 from motoflex_ros.vehicle.modes import modal_sweep
 
 __all__ = ["CASES", "ACCURACY_VARIANTS", "PAPER_VARIANTS", "QUANTITIES", "AccuracyResult",
@@ -76,7 +77,7 @@ def _weave_wobble(model, speeds):
 
 
 def _curves(sweep):
-    return {mode: np.asarray(sweep.modes[mode]) for mode in ("weave", "wobble")}
+    return {mode: np.asarray(sweep.modes[mode]) for mode in STUDIED_MODES}
 
 
 def flexible_motorcycle(vehicle, components, identified, names, speeds, variant="flexible"):
@@ -99,7 +100,7 @@ def mode_errors(lumped, flexible, label):
 
     ``lumped``, ``flexible``: {"weave": eigenvalues over speed, "wobble": ...} [1/s].
     """
-    for mode in ("weave", "wobble"):
+    for mode in STUDIED_MODES:
         if not (np.all(np.isfinite(lumped[mode])) and np.all(np.isfinite(flexible[mode]))):
             raise ModelError(f"{label}: {mode} is not tracked at every speed, so eq. (18) "
                              "cannot be evaluated")

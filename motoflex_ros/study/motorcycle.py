@@ -36,6 +36,7 @@ from motoflex_ros.units import ms_to_kmh
 from motoflex_ros.vehicle.dynamics import build_system
 from motoflex_ros.vehicle.linearize import linearize, linearize_at
 from motoflex_ros.vehicle.lumped import COMPONENTS
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 from motoflex_ros.vehicle.modes import modal_sweep
 
 __all__ = ["FACTOR_KEYS", "DIRECTION_SPEED", "MotorcycleStudy", "nominal_stiffness",
@@ -100,7 +101,7 @@ def with_stiffness(identified, values):
 
 def _mode_targets(sweep):
     targets = []
-    for mode in ("weave", "wobble"):
+    for mode in STUDIED_MODES:
         value = sweep.modes[mode][0]
         if not np.isfinite(value):
             raise ModelError(f"the nominal motorcycle's {mode} is not found at "

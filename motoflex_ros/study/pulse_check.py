@@ -21,12 +21,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from motoflex_ros.identify.matrix_pencil import matrix_pencil_poles, unit_peak
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 from motoflex_ros.vehicle.modes import modal_sweep
 from motoflex_ros.vehicle.nonlinear_response import nonlinear_steer_pulse
 
-__all__ = ["PulseCheck", "pulse_check", "PULSE_MODES"]
+__all__ = ["PulseCheck", "pulse_check"]
 
-PULSE_MODES = ("weave", "wobble")
 
 
 @dataclass(frozen=True)
@@ -83,7 +83,7 @@ def pulse_check(lin, speed, torque=20.0, duration=0.05, t_end=1.5, dt=0.01):
     free = response.outputs[response.time >= response.duration]
     poles = matrix_pencil_poles(unit_peak(free), dt)
     sweep = modal_sweep(lin, [speed])
-    linear = {m: complex(sweep.modes[m][0]) for m in PULSE_MODES
+    linear = {m: complex(sweep.modes[m][0]) for m in STUDIED_MODES
               if np.isfinite(sweep.modes[m][0])}
     nonlinear = {m: complex(poles[np.argmin(np.abs(poles - lam))]) for m, lam in linear.items()}
     peak = dict(zip(response.output_names, np.max(np.abs(response.outputs), axis=0)))

@@ -18,14 +18,13 @@ from motoflex_ros.study.anova import anova
 from motoflex_ros.study.correlation import pearson_table
 from motoflex_ros.study.factorial import full_factorial
 from motoflex_ros.study.runner import run_study
-from motoflex_ros.study.stability_index import stability_index
+from motoflex_ros.study.stability_index import RANGE_NAMES, stability_index
 from motoflex_ros.units import kmh_to_ms
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 
-__all__ = ["MODES", "RANGES", "SensitivityResult", "stability_indices", "analyse_sensitivity",
+__all__ = ["SensitivityResult", "stability_indices", "analyse_sensitivity",
            "run_sensitivity", "extra_range_name"]
 
-MODES = ("weave", "wobble")
-RANGES = ("low", "high")
 
 
 def extra_range_name(low_kmh, high_kmh):
@@ -33,7 +32,8 @@ def extra_range_name(low_kmh, high_kmh):
     return f"{low_kmh:g}-{high_kmh:g}kmh"
 
 
-def stability_indices(speeds, curves, modes=MODES, ranges=RANGES, extra_ranges_kmh=()):
+def stability_indices(speeds, curves, modes=STUDIED_MODES, ranges=RANGE_NAMES,
+                      extra_ranges_kmh=()):
     """{"<mode>_<range>": StabilityIndex} from {mode: eigenvalues (runs, speeds)}.
 
     ``speeds`` [m/s]; the curves may be complex eigenvalues or real parts [1/s].

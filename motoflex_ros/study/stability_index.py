@@ -26,12 +26,18 @@ import numpy as np
 
 from motoflex_ros.errors import ModelError
 from motoflex_ros.units import kmh_to_ms
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 
-__all__ = ["SPEED_RANGES_KMH", "StabilityIndex", "speed_range", "max_real_part",
-           "stable_fraction", "combined_index", "stability_index", "crossing_speeds"]
+__all__ = ["SPEED_RANGES_KMH", "RANGE_NAMES", "INDEX_NAMES", "StabilityIndex", "speed_range",
+           "max_real_part", "stable_fraction", "combined_index", "stability_index",
+           "crossing_speeds"]
 
 # the paper's low and high speed ranges [km/h] (Sect. 4.3)
 SPEED_RANGES_KMH = {"low": (40.0, 100.0), "high": (100.0, 210.0)}
+RANGE_NAMES = tuple(SPEED_RANGES_KMH)   # ("low", "high")
+INDEX_NAMES = tuple(f"{mode}_{r}" for mode in STUDIED_MODES for r in RANGE_NAMES)
+"""The four stability indices of the sensitivity and design studies, "<mode>_<range>":
+weave_low, weave_high, wobble_low, wobble_high."""
 
 
 def speed_range(name):

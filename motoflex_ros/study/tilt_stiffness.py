@@ -37,6 +37,7 @@ import numpy as np
 from motoflex_ros.structures.bodies import assemble_bodies, reduce_bodies
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.vehicle.linearize import linearize
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 from motoflex_ros.vehicle.modes import modal_sweep
 
 __all__ = ["TiltSweep", "FRONT", "TILT_FACTORS", "JOINT_LINKS", "PARTS", "with_joint_link_tilt",
@@ -48,7 +49,6 @@ JOINT_LINKS = (("fork_top_left", "stanchion_top_left"), ("fork_top_right", "stan
 _STANCHION_BELOW = {"stanchion_top_left": "stanchion_upper_bushing_left",
                     "stanchion_top_right": "stanchion_upper_bushing_right"}
 PARTS = ("tilt", "rotation")
-_MODES = ("weave", "wobble")
 
 
 def _spring_index(component, a, b):
@@ -165,7 +165,7 @@ class TiltSweep:
 
 def _weave_wobble(model, speeds):
     sweep = modal_sweep(linearize(model), speeds)
-    return {m: np.asarray(sweep.modes[m], complex) for m in _MODES}
+    return {m: np.asarray(sweep.modes[m], complex) for m in STUDIED_MODES}
 
 
 def tilt_sweep(vehicle, front_assembly, speeds, factors=TILT_FACTORS, part="tilt",
@@ -206,5 +206,5 @@ def tilt_sweep(vehicle, front_assembly, speeds, factors=TILT_FACTORS, part="tilt
         model = build_variant(vehicle, "flexible_bodies", [FRONT], {},
                               {FRONT: with_joint_link_tilt(factor, front_assembly, part)})
         rows.append(_weave_wobble(model, speeds))
-    modes = {m: np.array([row[m] for row in rows]) for m in _MODES}
+    modes = {m: np.array([row[m] for row in rows]) for m in STUDIED_MODES}
     return TiltSweep(part, np.asarray(factors, float), speeds, modes, held, superelement)

@@ -24,6 +24,7 @@ import numpy as np
 
 from motoflex_ros.errors import ModelError
 from motoflex_ros.study.continuation import continue_eigenpairs, nearest_eigenpairs
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 
 __all__ = ["NearestTargets", "HomotopyStart", "TrackedModeStudy", "LinearStiffnessPencil",
            "stiffness_directions", "check_pencil", "pencil_study"]
@@ -100,7 +101,7 @@ class TrackedModeStudy:
     state_matrices: object
     speeds: tuple
     start: object
-    modes: tuple = ("weave", "wobble")
+    modes: tuple = STUDIED_MODES
     tol: float = 1e-12
     min_step_mac: float = field(default=0.5)
 
@@ -214,7 +215,7 @@ def check_pencil(pencil, reference, values, speed, tol=1e-8):
 
 
 def pencil_study(e_coeffs, a_coeffs, matrix_of, nominal, speeds, targets,
-                 modes=("weave", "wobble"), reference=None):
+                 modes=STUDIED_MODES, reference=None):
     """The study function of a linearized vehicle whose joint stiffnesses are the factors.
 
     Parameters

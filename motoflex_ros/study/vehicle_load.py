@@ -23,12 +23,12 @@ import numpy as np
 from motoflex_ros.errors import ModelError
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.dynamics import residual
+from motoflex_ros.vehicle.linearize import COMPLEX_STEP
 from motoflex_ros.vehicle.modes import modal_sweep
 from motoflex_ros.vehicle.superelement import coordinate_names, end_body
 
 __all__ = ["ModeWrench", "mode_wrench", "carried_element", "real_at_largest"]
 
-_STEP = 1e-30
 
 
 @dataclass(frozen=True)
@@ -116,8 +116,8 @@ def mode_wrench(lin, component, speed, mode="wobble", length=1.0):
                                            for i, e in enumerate(system.elements)))
     parts = []
     for x, xdot in ((shape.real, (lam * shape).real), (shape.imag, (lam * shape).imag)):
-        residual(probe, 1j * _STEP * xdot, 1j * _STEP * x, float(speed))
-        parts.append(recorder.last.imag / _STEP)
+        residual(probe, 1j * COMPLEX_STEP * xdot, 1j * COMPLEX_STEP * x, float(speed))
+        parts.append(recorder.last.imag / COMPLEX_STEP)
     wrench = parts[0] + 1j * parts[1]
     names = list(lin.state_names)
     motion = np.array([shape[names.index(n)] for n in coordinate_names(element)[:6]])

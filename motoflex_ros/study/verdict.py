@@ -9,6 +9,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
+
 __all__ = ["ModeVerdict", "mode_verdict", "stability_verdict"]
 
 
@@ -76,7 +78,7 @@ def mode_verdict(mode, speeds_kmh, eigenvalues):
                        int(found.sum()), i)
 
 
-def stability_verdict(speeds_kmh, modes, names=("weave", "wobble")):
+def stability_verdict(speeds_kmh, modes, names=STUDIED_MODES):
     """{mode: :class:`ModeVerdict`} of the ``names`` present in ``modes`` ({mode: eigenvalue
     per speed, complex [1/s]}), over ``speeds_kmh`` [km/h]; modes never found are left out.
 

@@ -9,9 +9,10 @@ Modules (vector helpers: :mod:`motoflex_ros.spatial`): ``model`` (dataclasses an
 data), ``schema`` (YAML validation), ``kinematics`` (tree kinematics), ``contact`` (rolling
 contact on the toroidal tyre), ``tyre`` (linear and Magic Formula tyres), ``dynamics`` (Kane
 residual), ``linearize`` (complex-step linearization, speed polynomial), ``modes`` (MAC tracking
-of weave/wobble/capsize), ``steer_pulse`` (steer-pulse response), ``superelement`` (Craig-Bampton
-superelements with one or several ends, bushings), ``flexible_bodies`` (a beam component as the
-paper's flexible bodies: per-body superelements, bushings, spherical links, clamp welds),
+of weave/wobble/capsize; their names in ``mode_names``, light to import), ``steer_pulse``
+(steer-pulse response), ``superelement`` (Craig-Bampton superelements with one or several
+ends, bushings), ``flexible_bodies`` (a beam component as the paper's flexible bodies:
+per-body superelements, bushings, spherical links, clamp welds),
 ``flexible_motorcycle`` (the touring motorcycle's per-body map: its flexible bodies joined by
 the vehicle's joints, ``--flex flexible_bodies``), ``outline`` (where each body holds its joints
 and wheels, for viewers).

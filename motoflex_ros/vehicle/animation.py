@@ -19,6 +19,7 @@ import numpy as np
 
 from motoflex_ros.units import kmh_to_ms
 from motoflex_ros.vehicle.linearize import linearize
+from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 from motoflex_ros.vehicle.modes import eigen_decomposition, modal_sweep
 from motoflex_ros.vehicle.poses import frame_poses, world_poses
 from motoflex_ros.vehicle.steer_pulse import steer_pulse_response
@@ -174,7 +175,7 @@ def motorcycle_motion(model, speed_mps=DEFAULT_SPEED_MPS, modes=None, road=True)
     lin = linearize(model)
     if modes is None:
         sweep = modal_sweep(lin, np.array([speed_mps]))
-        modes = {m: sweep.modes[m][0] for m in ("weave", "wobble")}
+        modes = {m: sweep.modes[m][0] for m in STUDIED_MODES}
     animated = {}
     for name, eigenvalue in modes.items():
         if np.isfinite(eigenvalue):

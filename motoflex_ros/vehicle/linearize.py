@@ -13,13 +13,21 @@ import numpy as np
 import scipy.linalg
 
 from motoflex_ros.errors import ModelError
-from motoflex_ros.vehicle.dynamics import build_system, constraint_matrix, positions, residual
+from motoflex_ros.vehicle.dynamics import (
+    build_system,
+    constraint_matrix,
+    kinematic_state,
+    positions,
+    residual,
+)
 
 __all__ = ["LinearVehicle", "SecondOrderMatrices", "linearize_at", "linearize",
            "is_singular", "SINGULAR_RTOL", "check_determined", "UNDETERMINED_RTOL",
-           "mechanism_matrices"]
+           "mechanism_matrices", "COMPLEX_STEP", "FIT_SPEEDS"]
 
-_STEP = 1e-30
+COMPLEX_STEP = 1e-30
+"""The complex step h of every derivative d f / d x = Im f(x + i h) / h (exact to rounding: no
+subtraction), here and in the studies that linearize a vehicle part by part."""
 SINGULAR_RTOL = 1e-10
 """E is taken as singular when its smallest singular value is below this fraction of its
 largest. Massless bodies make E singular; inside a closed loop their rows come out as rounding
@@ -42,7 +50,8 @@ def is_singular(E, rtol=SINGULAR_RTOL):
     scaled = scaled / np.max(np.abs(scaled), axis=0)[None, :]
     s = np.linalg.svd(scaled, compute_uv=False)
     return bool(s[-1] <= rtol * s[0])
-_FIT_SPEEDS = (1.0, 2.0, 3.0)
+FIT_SPEEDS = (1.0, 2.0, 3.0)
+"""Speeds [m/s] at which the pencil is linearized to fit its polynomial in v (degree 2)."""
 _CHECK_SPEED = 7.5
 
 
@@ -68,16 +77,19 @@ def linearize_at(system, v):
     # (one Newton step is exact for a perturbation of the reference: dynamics.positions)
     q_ref = positions(system, zero, newton_steps=1)
     G_ref = constraint_matrix(system, q_ref)     # the velocity rows at q_ref, shared
+    # the residual is linear in x': every column of E perturbs x' at the reference, which
+    # shares one kinematic state (frames, contacts, velocity rows)
+    reference = kinematic_state(system, zero, v, q=q_ref, G=G_ref)
     n_pos = len(system.indep_pos)
     for k in range(n):
         step = np.zeros(n, complex)
-        step[k] = 1j * _STEP
-        E[:, k] = residual(system, step, zero, v, q=q_ref, G=G_ref).imag / _STEP
+        step[k] = 1j * COMPLEX_STEP
+        E[:, k] = residual(system, step, zero, v, at=reference).imag / COMPLEX_STEP
         if k < n_pos:
             A[:, k] = -residual(system, zero, step, v,
-                                q=positions(system, step, newton_steps=1)).imag / _STEP
+                                q=positions(system, step, newton_steps=1)).imag / COMPLEX_STEP
         else:
-            A[:, k] = -residual(system, zero, step, v, q=q_ref, G=G_ref).imag / _STEP
+            A[:, k] = -residual(system, zero, step, v, q=q_ref, G=G_ref).imag / COMPLEX_STEP
     check_determined(system, E, A)
     return E, A
 
@@ -188,9 +200,9 @@ def linearize(model):
     speed; a mismatch (speed dependence the engine does not know about) is a ModelError.
     """
     system = model if hasattr(model, "tree") else build_system(model)
-    pencils = [linearize_at(system, v) for v in _FIT_SPEEDS]
-    result = LinearVehicle(system, _fit([p[0] for p in pencils], _FIT_SPEEDS),
-                           _fit([p[1] for p in pencils], _FIT_SPEEDS))
+    pencils = [linearize_at(system, v) for v in FIT_SPEEDS]
+    result = LinearVehicle(system, _fit([p[0] for p in pencils], FIT_SPEEDS),
+                           _fit([p[1] for p in pencils], FIT_SPEEDS))
     E_chk, A_chk = linearize_at(system, _CHECK_SPEED)
     E_fit, A_fit = result.pencil([_CHECK_SPEED])
     for name, got, want in (("E", E_fit[0], E_chk), ("A", A_fit[0], A_chk)):

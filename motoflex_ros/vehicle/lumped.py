@@ -49,9 +49,10 @@ import numpy as np
 
 from motoflex_ros.config import MOTORCYCLE_COMPONENTS
 from motoflex_ros.errors import ConfigError, ModelError
+from motoflex_ros.inertia import composite_inertia
 from motoflex_ros.vehicle.dynamics import build_system, dependent_speeds
 from motoflex_ros.vehicle.kinematics import frame_states
-from motoflex_ros.vehicle.model import Body, Joint, composite_inertia
+from motoflex_ros.vehicle.model import Body, Joint
 
 __all__ = ["VARIANTS", "COMPONENTS", "FlexJoint", "ComponentSite", "site_of", "axis_in_vehicle",
            "state_of_the_art_axis", "check_site", "reattach", "lumped_vehicle", "mass_properties",

@@ -19,8 +19,7 @@ from motoflex_ros.vehicle.schema import LOOP_CLOSURE_TOLERANCE, REFERENCE_SPEED,
 from motoflex_ros.vehicle.tyre import tyre_from_config
 
 __all__ = ["Body", "Joint", "Wheel", "VehicleModel", "load_vehicle", "vehicle_from_dict",
-           "inertia_matrix", "check_inertia", "parallel_axis", "composite_inertia",
-           "combine_parts", "WHEEL_AXIS_TOLERANCE_RAD"]
+           "combine_parts", "WHEEL_AXIS_TOLERANCE_RAD", "parallel_axis"]
 
 WHEEL_AXIS_TOLERANCE_RAD = 1e-3
 """Largest angle [rad] between a wheel's spin axis and the lateral axis y. The engine linearizes

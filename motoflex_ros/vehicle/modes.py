@@ -20,13 +20,13 @@ import numpy as np
 import scipy.linalg
 
 from motoflex_ros.vehicle.linearize import is_singular
+from motoflex_ros.vehicle.mode_names import MODE_NAMES
 
 __all__ = ["ModalSweep", "modal_sweep", "mac", "eigen_decomposition", "WEAVE_BAND_HZ",
-           "WOBBLE_BAND_HZ", "MODE_NAMES"]
+           "WOBBLE_BAND_HZ"]
 
 WEAVE_BAND_HZ = (0.5, 5.0)
 WOBBLE_BAND_HZ = (5.0, 12.0)
-MODE_NAMES = ("weave", "wobble", "capsize")
 _MAX_STEP = 0.3
 _MAC_LOST = 0.5
 

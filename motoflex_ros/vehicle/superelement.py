@@ -47,9 +47,8 @@ from motoflex_ros.structures.clamped import reduce_clamped
 from motoflex_ros.structures.craig_bampton import F_MAX_HZ, N_MODES
 from motoflex_ros.vehicle.model import Body, Joint
 
-__all__ = ["Superelement", "BoundSuperelement", "superelement_of", "rigid_field",
-           "coordinate_names", "end_body", "chain_parts", "generalized_residual", "follower_masks",
-           "bushing"]
+__all__ = ["Superelement", "BoundSuperelement", "superelement_of", "coordinate_names",
+           "end_body", "chain_parts", "generalized_residual", "follower_masks", "bushing"]
 
 
 @dataclass(frozen=True)

@@ -24,8 +24,8 @@ from motoflex_ros.config import validate
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.vehicle.schema import MF_COEFFICIENTS, TYRE_SCHEMAS
 
-__all__ = ["LinearTyre", "linear_tyre", "mf_side_force", "mf_aligning_moment",
-           "mf_linearized", "tyre_from_config", "MF_COEFFICIENTS"]
+__all__ = ["LinearTyre", "linear_tyre", "mf_side_force", "mf_aligning_moment", "mf_linearized",
+           "tyre_from_config"]
 
 
 @dataclass(frozen=True)
