@@ -370,8 +370,8 @@ def test_two_runs_in_one_domain(tmp_path):
     from test_campaign_graph import _assert_same, without_inputs
 
     from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.cli.output import to_jsonable
     from motoflex_ros.formats.component_file import load_components
+    from motoflex_ros.formats.json_yaml import to_jsonable
     from motoflex_ros.study.identified_variants import carried_inertias
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()

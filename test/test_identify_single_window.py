@@ -16,10 +16,10 @@ import yaml
 
 from motoflex_ros.bench.offline_campaign import only_tests, run_campaign, setup_campaign
 from motoflex_ros.cli.identify import _table
-from motoflex_ros.cli.output import emit_json, to_jsonable
+from motoflex_ros.cli.output import emit_json
 from motoflex_ros.config import config_path
 from motoflex_ros.formats.component_file import load_component
-from motoflex_ros.formats.json_yaml import write_results
+from motoflex_ros.formats.json_yaml import to_jsonable, write_results
 from motoflex_ros.identify.uncertainty import interval, mean_and_covariance
 from motoflex_ros.report.tables import identification_table, table2
 

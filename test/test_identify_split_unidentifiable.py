@@ -14,9 +14,9 @@ import pytest
 
 from motoflex_ros.bench.offline_campaign import only_tests, run_campaign, setup_campaign
 from motoflex_ros.cli.main import main
-from motoflex_ros.cli.output import to_jsonable
 from motoflex_ros.errors import ModelError
 from motoflex_ros.formats.component_file import load_component
+from motoflex_ros.formats.json_yaml import to_jsonable
 from motoflex_ros.identify.results import ResultsFile
 from motoflex_ros.lumped_stiffness.decomposition import decompose_stiffness, split_problem
 from motoflex_ros.study.factorial import PAPER_TABLE2_NOMINAL

@@ -90,8 +90,8 @@ def test_nodes_identification_statuses_roundtrip():
     from diagnostic_msgs.msg import DiagnosticArray
 
     from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.cli.output import to_jsonable
     from motoflex_ros.formats.component_file import load_components
+    from motoflex_ros.formats.json_yaml import to_jsonable
     from motoflex_ros.study.identified_variants import carried_inertias
     components = load_components(["swingarm"])   # with the principal hinges
     carried = carried_inertias(components)

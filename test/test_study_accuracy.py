@@ -14,13 +14,12 @@ from motoflex_ros.bench.offline_campaign import identify_components
 from motoflex_ros.config import config_path
 from motoflex_ros.errors import ModelError
 from motoflex_ros.formats.component_file import load_component, load_components
-from motoflex_ros.study.accuracy import rms_error_percent
+from motoflex_ros.study.accuracy import QUANTITIES, rms_error_percent
 from motoflex_ros.study.identified_variants import carried_inertias
 from motoflex_ros.study.lumped_accuracy import (
     ACCURACY_VARIANTS,
     CASES,
     PAPER_VARIANTS,
-    QUANTITIES,
     accuracy_study,
     mode_errors,
 )

@@ -61,9 +61,9 @@ def test_pencil_check_refuses_speed_dependent_springs_analytic(speed_dependent):
 @pytest.fixture(scope="module")
 def motorcycle():
     from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.cli.output import to_jsonable
     from motoflex_ros.config import config_path
     from motoflex_ros.formats.component_file import load_component, load_components
+    from motoflex_ros.formats.json_yaml import to_jsonable
     from motoflex_ros.vehicle.lumped import COMPONENTS
     from motoflex_ros.vehicle.model import load_vehicle
     runs = identify_components(load_components(list(COMPONENTS)))

@@ -13,9 +13,10 @@ import pytest
 
 from motoflex_ros.config import config_path
 from motoflex_ros.formats.component_file import load_component
+from motoflex_ros.inertia import parallel_axis
 from motoflex_ros.vehicle import lumped
 from motoflex_ros.vehicle.linearize import linearize
-from motoflex_ros.vehicle.model import Body, Joint, load_vehicle, parallel_axis
+from motoflex_ros.vehicle.model import Body, Joint, load_vehicle
 from motoflex_ros.vehicle.modes import modal_sweep
 from motoflex_ros.vehicle.superelement import superelement_of
 from motoflex_ros.vehicle.variants import flexible_vehicle

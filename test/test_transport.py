@@ -132,8 +132,8 @@ def test_campaign_on_the_plain_path_identifies_as_the_ctypes_path(tmp_path):
     from test_campaign_graph import COMPONENT, _assert_same, _campaign, without_inputs
 
     from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.cli.output import to_jsonable
     from motoflex_ros.formats.component_file import load_components
+    from motoflex_ros.formats.json_yaml import to_jsonable
     from motoflex_ros.record import mcap_bag
     from motoflex_ros.study.identified_variants import carried_inertias
     bag = tmp_path / "run"

@@ -4,9 +4,9 @@ from pathlib import Path
 
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.files import OutputError, check_output_path
-from motoflex_ros.formats.json_yaml import json_text, to_jsonable
+from motoflex_ros.formats.json_yaml import json_text
 
-__all__ = ["emit_json", "to_jsonable", "print_table", "add_force_option", "check_new_file"]
+__all__ = ["emit_json", "print_table", "add_force_option", "check_new_file", "progress_bar"]
 
 
 def add_force_option(parser):

@@ -33,6 +33,7 @@ import re
 
 import numpy as np
 
+from motoflex_ros.bench.sensor import MAX_NOISE_M
 from motoflex_ros.config import Field, load_yaml, number, positive, shown, validate
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.identify.measurements import MIN_MARKERS
@@ -44,10 +45,9 @@ from motoflex_ros.identify.physical_bench import (
 from motoflex_ros.identify.principal import CarriedInertia
 from motoflex_ros.inertia import check_inertia, inertia_matrix
 
-__all__ = ["load_bench", "bench_from_dict", "FROM_DATA", "MAX_NOISE_M", "BENCH_SCHEMA"]
+__all__ = ["load_bench", "bench_from_dict", "FROM_DATA", "BENCH_SCHEMA"]
 
 FROM_DATA = "from_data"
-MAX_NOISE_M = 1e-3  # as the virtual sensor's bound (motoflex_ros.bench.sensor.MAX_NOISE_M)
 MAX_SIZE_M = 10.0
 _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 

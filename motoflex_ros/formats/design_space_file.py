@@ -29,13 +29,13 @@ from motoflex_ros.config import (
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.formats.component_file import load_component_config
 from motoflex_ros.study.design_space import (
-    INDEX_NAMES,
     SECTION_KEYS,
     SECTION_RANGES,
     DesignSpace,
     Variable,
     members_mass,
 )
+from motoflex_ros.study.stability_index import INDEX_NAMES
 
 __all__ = ["load_design_space", "design_component_text", "held_members_mass"]
 

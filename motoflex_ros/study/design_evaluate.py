@@ -16,15 +16,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from motoflex_ros.structures.clamped import clamped_frequencies
-from motoflex_ros.study.design_space import (
-    INDEX_NAMES,
-    component_with,
-    design_configs,
-    members_mass,
-)
+from motoflex_ros.study.design_space import component_with, design_configs, members_mass
 from motoflex_ros.study.design_update import design_engine
 from motoflex_ros.study.motorcycle import _mode_targets
 from motoflex_ros.study.sensitivity import stability_indices
+from motoflex_ros.study.stability_index import INDEX_NAMES
 from motoflex_ros.study.tracked import HomotopyStart, TrackedModeStudy
 from motoflex_ros.vehicle.linearize import LinearVehicle
 from motoflex_ros.vehicle.modes import modal_sweep

@@ -25,8 +25,9 @@ import scipy.optimize
 
 from motoflex_ros.errors import ConfigError
 from motoflex_ros.study.design_evaluate import DesignBatch
-from motoflex_ros.study.design_space import INDEX_NAMES, design_configs, members_mass
+from motoflex_ros.study.design_space import design_configs, members_mass
 from motoflex_ros.study.runner import run_study
+from motoflex_ros.study.stability_index import INDEX_NAMES
 
 __all__ = ["DesignProblem", "index_floors", "least_mass", "pareto_front", "SLACK"]
 

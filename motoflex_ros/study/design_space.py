@@ -35,10 +35,9 @@ from motoflex_ros.structures.component_schema import (
     structure_from_config,
 )
 
-__all__ = ["INDEX_NAMES", "SECTION_KEYS", "SECTION_RANGES", "DesignSpace", "Variable",
+__all__ = ["SECTION_KEYS", "SECTION_RANGES", "DesignSpace", "Variable",
            "members_mass", "component_with", "design_configs"]
 
-INDEX_NAMES = ("weave_low", "weave_high", "wobble_low", "wobble_high")
 """The four stability indices of eq. (15): mode x speed range (low 40-100, high 100-210 km/h)."""
 SECTION_KEYS = {"tube": ("outer_diameter", "wall_thickness"),
                 "rectangular_tube": ("width", "height", "wall_thickness")}

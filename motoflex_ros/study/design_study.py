@@ -21,12 +21,13 @@ import numpy as np
 
 from motoflex_ros.study.design_evaluate import STATIC_FORCE, DesignBatch, StackedPencil
 from motoflex_ros.study.design_search import DesignProblem, index_floors, least_mass, pareto_front
-from motoflex_ros.study.design_space import INDEX_NAMES, component_with, design_configs
+from motoflex_ros.study.design_space import component_with, design_configs
 from motoflex_ros.study.factorial import FACTOR_DESCRIPTIONS
 from motoflex_ros.study.identified_variants import build_variant
 from motoflex_ros.study.motorcycle import _mode_targets
 from motoflex_ros.study.runner import run_study
 from motoflex_ros.study.sensitivity import stability_indices
+from motoflex_ros.study.stability_index import INDEX_NAMES
 from motoflex_ros.study.tracked import HomotopyStart, TrackedModeStudy
 from motoflex_ros.vehicle.linearize import linearize
 from motoflex_ros.vehicle.modes import modal_sweep

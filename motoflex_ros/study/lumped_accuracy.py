@@ -28,7 +28,7 @@ import numpy as np
 
 from motoflex_ros.bench.offline_campaign import setup_campaign
 from motoflex_ros.errors import ModelError
-from motoflex_ros.study.accuracy import QUANTITIES, weave_wobble_errors
+from motoflex_ros.study.accuracy import weave_wobble_errors
 from motoflex_ros.study.fitted import fit_hinges
 from motoflex_ros.study.hinge_fit_result import with_fitted
 from motoflex_ros.study.hinge_geometry import hinge_of
@@ -44,7 +44,7 @@ from motoflex_ros.vehicle.lumped import COMPONENTS
 from motoflex_ros.vehicle.mode_names import STUDIED_MODES
 from motoflex_ros.vehicle.modes import modal_sweep
 
-__all__ = ["CASES", "ACCURACY_VARIANTS", "PAPER_VARIANTS", "QUANTITIES", "AccuracyResult",
+__all__ = ["CASES", "ACCURACY_VARIANTS", "PAPER_VARIANTS", "AccuracyResult",
            "accuracy_study", "mode_errors", "flexible_reference", "flexible_motorcycle"]
 
 CASES = COMPONENTS + ("all",)

@@ -14,12 +14,12 @@ import numpy as np
 
 from motoflex_ros.config import load_yaml, validate
 from motoflex_ros.errors import ConfigError
-from motoflex_ros.inertia import check_inertia, composite_inertia, inertia_matrix, parallel_axis
+from motoflex_ros.inertia import check_inertia, composite_inertia, inertia_matrix
 from motoflex_ros.vehicle.schema import LOOP_CLOSURE_TOLERANCE, REFERENCE_SPEED, VEHICLE_SCHEMA
 from motoflex_ros.vehicle.tyre import tyre_from_config
 
 __all__ = ["Body", "Joint", "Wheel", "VehicleModel", "load_vehicle", "vehicle_from_dict",
-           "combine_parts", "WHEEL_AXIS_TOLERANCE_RAD", "parallel_axis"]
+           "combine_parts", "WHEEL_AXIS_TOLERANCE_RAD"]
 
 WHEEL_AXIS_TOLERANCE_RAD = 1e-3
 """Largest angle [rad] between a wheel's spin axis and the lateral axis y. The engine linearizes
