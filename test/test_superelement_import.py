@@ -114,6 +114,20 @@ def test_export_from_the_command_line(tmp_path):
         assert b[key] == pytest.approx(a[key], rel=1e-9), key
 
 
+def test_superelement_with_moving_bodies_is_refused_in_the_flexible_motorcycle(tmp_path):
+    """A swingarm superelement has no members to say which of its nodes ride on the torque
+    strut and the wheel carrier (vehicle.lumped.SUPERELEMENT_FOLLOWS): ``eig --flex flexible``
+    refuses it in one line naming the file, no traceback (it crashed with an AttributeError)."""
+    exported = export_superelement(load_component("swingarm"), tmp_path)
+    out = run_motoflex(["eig", "--vehicle", "touring", "--speeds-kmh", "100", "--flex",
+                        "flexible", "--component", "swingarm", "--use", exported])
+    assert out.returncode == 2, out.stderr
+    assert "Traceback" not in out.stderr
+    error = out.stderr.splitlines()[-1]
+    assert str(exported) in error and "torque_strut, wheel_carrier" in error, out.stderr
+    assert "beam or mesh model" in error
+
+
 def test_bad_superelement_files_are_refused(tmp_path):
     """Unsymmetric or non-square matrices, rows out of range or shared, an unknown clamp: a
     ConfigError naming the file and the key."""

@@ -156,6 +156,12 @@ def follower_masks(component, parent, follows):
     (:func:`~motoflex_ros.structures.bodies.split_bodies`) that holds a node named in
     ``follows[body]`` follow that body, all others ``parent``."""
     owner = np.full(len(component.node_xyz), parent, dtype=object)
+    if follows and getattr(component, "structure", None) is None:
+        where = getattr(component, "source", "") or component.name
+        raise ModelError(f"{where}: component '{component.name}' is a superelement (matrices "
+                         "only, no members), so the flexible motorcycle cannot tell which of "
+                         "its nodes move with the vehicle bodies "
+                         f"{', '.join(sorted(follows))}; give its beam or mesh model instead")
     groups = split_bodies(component.structure) if follows else []
     for body, node_names in (follows or {}).items():
         for name in node_names:
