@@ -1,15 +1,20 @@
 """Inputs that once crashed or ran away (issue 13, point 5), and more of the same kind.
 
-Each case runs the real command in a fresh process on a file written for it and must: exit
-non-zero, print no traceback, name the file (or the command line / node) and the key, end
+Each case runs the real command in a process of its own on a file written for it and must:
+exit non-zero, print no traceback, name the file (or the command line / node) and the key, end
 within 5 s of computing (a hang guard: the work is sized before it starts; see run_guarded)
-and leave no output file.
+and leave no output file. The motoflex command's process is forked from the test's, with the
+package already imported (run_forked); a node's is a fresh interpreter.
 """
+import importlib
 import os
+import pkgutil
+import signal
 import subprocess
 import sys
 import tempfile
 import time
+import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -401,12 +406,91 @@ def run_guarded(cmd, env, cwd):
         return subprocess.CompletedProcess(cmd, proc.returncode, out.read(), err.read())
 
 
+def _child_main(argv, env, cwd, out, err):
+    """In a forked child: run ``motoflex argv`` as ``python -m motoflex_ros.cli.main`` would
+    (stdout and stderr on the files ``out`` and ``err``, ``env`` as its environment, ``cwd``
+    its folder, an uncaught exception printed as a traceback and exit 1); never returns."""
+    code = 1
+    try:
+        os.chdir(cwd)
+        os.dup2(out.fileno(), 1)
+        os.dup2(err.fileno(), 2)
+        sys.stdout = open(1, "w", closefd=False)
+        sys.stderr = open(2, "w", closefd=False)
+        os.environ.clear()
+        os.environ.update(env)
+        from motoflex_ros.cli.main import main
+        try:
+            code = main([str(a) for a in argv])
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else int(exc.code is not None)
+        code = 0 if code is None else code
+    except BaseException:   # what the interpreter would print before exiting 1
+        traceback.print_exc()
+        code = 1
+    finally:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+
+
+def run_forked(argv, env, cwd):
+    """``motoflex argv`` in a child forked from this process, with the hang guards of
+    :func:`run_guarded`. The child starts with the command's modules already imported
+    (:data:`WARM_MODULES`): a fresh interpreter spent 1.5-2 s of CPU importing numpy, scipy
+    and the package before each refusal, most of this file's time, and none of what it tests.
+    """
+    start = time.monotonic()
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        pid = os.fork()
+        if pid == 0:
+            _child_main(argv, env, cwd, out, err)
+        code = None
+        try:
+            while code is None:
+                done, status = os.waitpid(pid, os.WNOHANG)
+                if done:
+                    code = os.waitstatus_to_exitcode(status)
+                    break
+                cpu, wall = _cpu_seconds(pid), time.monotonic() - start
+                assert cpu < HANG_GUARD_S, f"still running after {cpu:.1f} s of CPU: runs away"
+                assert wall < WALL_GUARD_S, f"still running after {wall:.0f} s: hangs"
+                time.sleep(0.02)
+        finally:
+            if code is None:
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+        out.seek(0)
+        err.seek(0)
+        return subprocess.CompletedProcess(argv, code, out.read(), err.read())
+
+
+WARM_MODULES = ("numpy", "scipy.linalg", "scipy.sparse", "scipy.sparse.linalg", "scipy.signal",
+                "scipy.optimize", "yaml", "motoflex_ros.cli.main")
+"""Imported once before the children are forked (plus every module of the package's core and
+formats, cli, report and plots, by :func:`_warm_imports`)."""
+
+
+def _warm_imports():
+    for name in WARM_MODULES:
+        importlib.import_module(name)
+    root = Path(__import__("motoflex_ros").__file__).parent
+    for package in ("structures", "identify", "vehicle", "bench", "study", "formats", "cli",
+                    "lumped_stiffness"):
+        for info in pkgutil.iter_modules([str(root / package)]):
+            importlib.import_module(f"motoflex_ros.{package}.{info.name}")
+
+
 def assert_refused(case, folder, cmd, env):
     """Run ``cmd`` (the case's files written into ``folder``): non-zero exit, no traceback, the
-    file and key named on stderr, no file left behind."""
+    file and key named on stderr, no file left behind. The motoflex command runs in a forked
+    child (:func:`run_forked`), anything else (a node) in a fresh process."""
     _write(folder, case.files)
     before = sorted(folder.rglob("*"))
-    result = run_guarded(cmd + _argv(case, folder), env, folder)
+    if cmd == CLI:
+        result = run_forked(_argv(case, folder), env, folder)
+    else:
+        result = run_guarded(cmd + _argv(case, folder), env, folder)
     output = result.stdout + result.stderr
     assert result.returncode != 0, output
     assert "Traceback" not in output, output
@@ -414,8 +498,13 @@ def assert_refused(case, folder, cmd, env):
     assert sorted(folder.rglob("*")) == before, "an output file was left"
 
 
+@pytest.fixture(scope="module")
+def warm():
+    _warm_imports()
+
+
 @pytest.mark.parametrize("name", sorted(n for n in CASES if not CASES[n].node))
-def test_bad_input_is_refused_in_one_line(name, tmp_path):
+def test_bad_input_is_refused_in_one_line(name, tmp_path, warm):
     """The CLI cases; the node cases (a ROS node process each) are in test_bad_inputs_nodes."""
     folder = tmp_path / "case"
     folder.mkdir()
