@@ -77,19 +77,24 @@ def flexible_touring(variant="flexible"):
 def bench_accuracy_study():
     from motoflex_ros.bench.offline_campaign import identify_components
     from motoflex_ros.formats.component_file import load_component, load_components
+    from motoflex_ros.study.identified_variants import carried_inertias
     from motoflex_ros.study.lumped_accuracy import accuracy_study
     from motoflex_ros.vehicle.lumped import COMPONENTS
 
     start = time.perf_counter()
-    runs = identify_components(load_components(list(COMPONENTS)))
+    built = load_components(list(COMPONENTS))
+    # with the carried inertias, as a campaign identifies: the principal variant needs them
+    runs = identify_components(built, carried=carried_inertias(built))
     identified = {name: run.identification.to_dict() for name, (_, run) in runs.items()}
     t_ident = time.perf_counter() - start
     components = {name: load_component(name) for name in COMPONENTS}
+    swept = []
     accuracy_study(load_vehicle(config_path("vehicles", "touring")), components, identified,
-                   kmh_to_ms(np.unique(np.append(np.arange(40.0, 210.0, 5.0), 210.0))))
+                   kmh_to_ms(np.unique(np.append(np.arange(40.0, 210.0, 5.0), 210.0))),
+                   progress=lambda: swept.append(1))
     total = time.perf_counter() - start
     print(f"accuracy study: {total:.1f} s wall (bench identification {t_ident:.1f} s, "
-          f"20 models {total - t_ident:.1f} s; target 30 s)")
+          f"{len(swept)} models {total - t_ident:.1f} s; target 30 s)")
 
 
 if __name__ == "__main__":
