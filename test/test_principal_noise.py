@@ -59,7 +59,8 @@ def _errors(front, seed):
 
 def test_twenty_noise_seeds_keep_the_front_assembly_within_3_percent(front):
     """At least 18 of 20 seeds within 3 % on every quantity; the spread is printed."""
-    table = np.array([[_errors(front, seed)[q] for q in QUANTITIES] for seed in SEEDS])
+    errors = [_errors(front, seed) for seed in SEEDS]     # one identification per seed
+    table = np.array([[e[q] for q in QUANTITIES] for e in errors])
     worst = table.max(axis=1)
     print("\nprincipal, front assembly, 20 seeds of the default noise, e_RMS% "
           "(weave f, weave Re, wobble f, wobble Re):")
