@@ -381,6 +381,14 @@ def _cpu_seconds(pid):
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
+def _check_guards(pid, start):
+    """The hang guards of a running child ``pid`` started at monotonic time ``start``: at most
+    HANG_GUARD_S of its own CPU time and WALL_GUARD_S of wall time."""
+    cpu, wall = _cpu_seconds(pid), time.monotonic() - start
+    assert cpu < HANG_GUARD_S, f"still running after {cpu:.1f} s of CPU: runs away"
+    assert wall < WALL_GUARD_S, f"still running after {wall:.0f} s: hangs"
+
+
 def run_guarded(cmd, env, cwd):
     """Run ``cmd`` to its end; fail if it computes for more than HANG_GUARD_S seconds of CPU
     (the work was not sized before it started) or lives WALL_GUARD_S (it waits for nothing).
@@ -393,9 +401,7 @@ def run_guarded(cmd, env, cwd):
         proc = subprocess.Popen(cmd, stdout=out, stderr=err, env=env, cwd=cwd, text=True)
         try:
             while proc.poll() is None:
-                cpu, wall = _cpu_seconds(proc.pid), time.monotonic() - start
-                assert cpu < HANG_GUARD_S, f"still running after {cpu:.1f} s of CPU: runs away"
-                assert wall < WALL_GUARD_S, f"still running after {wall:.0f} s: hangs"
+                _check_guards(proc.pid, start)
                 time.sleep(0.05)
         finally:
             if proc.poll() is None:
@@ -452,9 +458,7 @@ def run_forked(argv, env, cwd):
                 if done:
                     code = os.waitstatus_to_exitcode(status)
                     break
-                cpu, wall = _cpu_seconds(pid), time.monotonic() - start
-                assert cpu < HANG_GUARD_S, f"still running after {cpu:.1f} s of CPU: runs away"
-                assert wall < WALL_GUARD_S, f"still running after {wall:.0f} s: hangs"
+                _check_guards(pid, start)
                 time.sleep(0.02)
         finally:
             if code is None:
