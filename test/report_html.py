@@ -5,12 +5,11 @@ Shared by test/test_report_reader.py and test/test_report_browser.py.
 import base64
 import shutil
 import struct
-import subprocess
-import sys
 from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
+from hostile import run_motoflex
 
 __all__ = ["ReportPage", "parse_report", "png_size", "example_report", "EXAMPLE"]
 
@@ -106,8 +105,6 @@ def example_report(parent, prepare=None):
     shutil.copytree(EXAMPLE, folder, ignore=shutil.ignore_patterns("report.html", "*.rrd"))
     if prepare is not None:
         prepare(folder)
-    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "report",
-                             str(folder), "--no-compute", "--quiet"], capture_output=True,
-                            text=True, timeout=600)
+    result = run_motoflex(["report", folder, "--no-compute", "--quiet"])
     assert result.returncode == 0, result.stderr
     return folder

@@ -7,13 +7,12 @@ paper values with the paper's tables; differences recomputed.
 """
 import base64
 import json
-import subprocess
-import sys
 from html.parser import HTMLParser
 from pathlib import Path
 
 import numpy as np
 import pytest
+from hostile import run_motoflex
 
 from motoflex_ros.report.published import meijaard2007_eigenvalues
 from motoflex_ros.report.tables import VARIANTS
@@ -99,9 +98,7 @@ class _Cells(HTMLParser):
 
 
 def _report(folder, *extra):
-    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "report",
-                             str(folder), "--no-compute", *extra], capture_output=True,
-                            text=True, timeout=300)
+    result = run_motoflex(["report", folder, "--no-compute", *extra])
     assert result.returncode == 0, result.stderr
     parser = _Cells()
     parser.feed((folder / "report.html").read_text(encoding="utf-8"))
@@ -211,8 +208,7 @@ def test_report_lists_missing_sections_not_invented(tmp_path):
 
 
 def test_report_not_a_run_folder_is_a_clear_error(tmp_path):
-    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "report",
-                             str(tmp_path / "missing")], capture_output=True, text=True)
+    result = run_motoflex(["report", tmp_path / "missing"])
     assert result.returncode == 2
     assert "not a run folder" in result.stderr
     assert not (tmp_path / "missing").exists()

@@ -5,8 +5,6 @@ the topics and types of issue 8; its numbers come from the shipped frame model (
 of the clamped reduced model), so the recording is checked against the model it shows.
 """
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -193,8 +191,7 @@ def make_bag(path, with_results=False, eigenvalues=True):
 def converted(tmp_path_factory):
     bag = tmp_path_factory.mktemp("bags") / "run1"
     values = make_bag(bag, with_results=True)
-    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "rerun", str(bag)],
-                            capture_output=True, text=True)
+    result = run_motoflex(["rerun", bag])
     assert result.returncode == 0, result.stderr
     return bag, values, result.stdout
 
@@ -313,8 +310,7 @@ def test_rerun_bag_identified_values_roundtrip(converted):
 
 
 def test_rerun_not_a_bag_is_a_clear_error(tmp_path):
-    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "rerun",
-                             str(tmp_path / "nope")], capture_output=True, text=True)
+    result = run_motoflex(["rerun", tmp_path / "nope"])
     assert result.returncode == 2
     assert "not a bag" in result.stderr
     assert "Traceback" not in result.stderr
@@ -392,16 +388,14 @@ def test_rerun_modes_at_a_chosen_speed(tmp_path):
     with its eigenvalue and exaggeration stated; a speed out of range is refused."""
     bag = tmp_path / "run"
     make_bag(bag)
-    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "rerun", str(bag),
-                             "--mode-speed-kmh", "60"], capture_output=True, text=True)
+    result = run_motoflex(["rerun", bag, "--mode-speed-kmh", "60"])
     assert result.returncode == 0, result.stderr
     rrd = next(bag.glob("*.rrd"))
     for mode in ("weave", "wobble"):
         (text,) = component_rows(rrd, f"/vehicle/modes/{mode}/description",
                                  "TextDocument:text")
         assert f"{mode} at 60 km/h" in text[1][0] and "largest angle is 0.15 rad" in text[1][0]
-    bad = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "rerun", str(bag),
-                          "--mode-speed-kmh", "500"], capture_output=True, text=True)
+    bad = run_motoflex(["rerun", bag, "--mode-speed-kmh", "500"])
     assert bad.returncode == 2 and "--mode-speed-kmh" in bad.stderr
     assert "Traceback" not in bad.stderr
 

@@ -2,12 +2,11 @@
 motorcycle, end to end through ``motoflex study accuracy`` and through the core."""
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 from deviations import known_deviation
+from hostile import run_motoflex
 from regression import expected
 
 from motoflex_ros.bench.offline_campaign import identify_components
@@ -46,8 +45,7 @@ def identified_file(tmp_path_factory):
 
 
 def motoflex(*args):
-    return subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", *args],
-                          capture_output=True, text=True)
+    return run_motoflex(args)
 
 
 @pytest.fixture(scope="module")

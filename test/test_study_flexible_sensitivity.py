@@ -5,6 +5,7 @@ import json
 import numpy as np
 import pytest
 import scipy.linalg
+from hostile import run_motoflex
 from regression import expected
 
 from motoflex_ros.cli.inputs import motorcycle_components
@@ -88,13 +89,9 @@ def test_flexible_sensitivity_verb_and_what_it_finds():
     sign between lumped and flexible; the swingarm torsion's share of low-speed weave is a
     quarter in the flexible structure of what the lumped model says (0.17 vs 0.64), the
     swingarm bending's larger (0.87 vs 0.68)."""
-    import subprocess
-    import sys
-
-    result = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "study",
-                             "sensitivity", "--model", "flexible", "--identified",
-                             str(ROOT / "bags/example/identification.json"), "--step-kmh",
-                             "10", "--json"], capture_output=True, text=True)
+    result = run_motoflex(["study", "sensitivity", "--model", "flexible", "--identified",
+                           ROOT / "bags/example/identification.json", "--step-kmh", "10",
+                           "--json"])
     assert result.returncode == 0, result.stderr
     data = json.loads(result.stdout)
     assert "modal stiffness" in data["definition"]
