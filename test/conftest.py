@@ -27,9 +27,11 @@ group suffixed as xdist documents it (``nodeid@group``), computed from the file 
 function as the marks; where xdist did suffix it (an xdist that works with the pytest in
 use), the suffix is kept.
 
-Mesh reductions are cached on disk (structures/reduction_cache.py): each test process keeps
-its own cache in a temporary folder (removed at exit) unless MOTOFLEX_CACHE_DIR is set, so no
-run reads what another run or the user's ~/.cache left.
+Mesh reductions are cached on disk (structures/reduction_cache.py): a test run keeps its own
+cache in a temporary folder (made by the first pytest process, inherited by the xdist workers,
+removed at exit) unless MOTOFLEX_CACHE_DIR is set, so no run reads what another run or the
+user's ~/.cache left. MOTOFLEX_TEST_SHARED, made the same way, holds what several test files
+read of the example run, made once per run (test/example_runs.py).
 """
 import atexit
 import os
@@ -79,10 +81,12 @@ SLOW_TESTS = {
 # The fault injection into running campaigns (issue 13): ./test.sh -m faults runs it alone.
 FAULT_FILES = {"test_faults.py"}
 
-if "MOTOFLEX_CACHE_DIR" not in os.environ:
-    _CACHE = tempfile.mkdtemp(prefix="motoflex-cache-")
-    os.environ["MOTOFLEX_CACHE_DIR"] = _CACHE
-    atexit.register(shutil.rmtree, _CACHE, ignore_errors=True)
+for _variable, _prefix in (("MOTOFLEX_CACHE_DIR", "motoflex-cache-"),
+                           ("MOTOFLEX_TEST_SHARED", "motoflex-test-shared-")):
+    if _variable not in os.environ:   # the first process of the run: the workers inherit it
+        _folder = tempfile.mkdtemp(prefix=_prefix)
+        os.environ[_variable] = _folder
+        atexit.register(shutil.rmtree, _folder, ignore_errors=True)
 
 
 def file_group(path):

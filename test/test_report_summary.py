@@ -14,15 +14,16 @@ import shutil
 
 import numpy as np
 import pytest
-from report_html import EXAMPLE, example_report, parse_report
+from example_runs import example_reported
+from report_html import EXAMPLE, parse_report
 
 from motoflex_ros.plots.labels import VARIANT_LABELS
 from motoflex_ros.structures.paper_tables import COMPONENTS, paper_table2_stiffness
 
 
 @pytest.fixture(scope="module")
-def run(tmp_path_factory):
-    folder = example_report(tmp_path_factory.mktemp("runs"))
+def run():
+    folder = example_reported()
     return folder, parse_report(folder / "report.html")
 
 

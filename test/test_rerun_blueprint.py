@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from example_runs import example_recording
 
 from motoflex_ros.record.rerun_readback import (
     blueprint_views,
@@ -23,11 +24,8 @@ EXAMPLE_BAG = Path(__file__).resolve().parents[1] / "bags" / "example"
 
 
 @pytest.fixture(scope="module")
-def recording(tmp_path_factory):
-    from motoflex_ros.cli.recording import write_recording
-    if not (EXAMPLE_BAG / "metadata.yaml").is_file():
-        pytest.skip("bags/example is not in this checkout")
-    rrd, _ = write_recording(EXAMPLE_BAG, tmp_path_factory.mktemp("rrd") / "example.rrd")
+def recording():
+    rrd = example_recording() / "example.rrd"
     temporal, static = entity_rows(rrd), entity_rows(rrd, static=True)
     return blueprint_views(rrd), temporal, static, rrd
 
