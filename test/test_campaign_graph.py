@@ -20,6 +20,9 @@ from motoflex_ros.formats.json_yaml import to_jsonable  # noqa: E402
 from motoflex_ros.record import mcap_bag  # noqa: E402
 
 COMPONENT = "swingarm"
+# A short campaign (every test kind, a few hundred samples) for the graph tests whose point is
+# the graph's mechanics, not the paper's numbers (the file says why each number).
+SHORT_PROTOCOL = str(Path(__file__).resolve().parent / "data" / "short_bench.yaml")
 
 
 def _leaves(a, b, path=""):
@@ -76,6 +79,25 @@ def _campaign(tmp_path, *extra, **env_extra):
                              "--component", COMPONENT, *extra], env=env, text=True,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             preexec_fn=interruptible)
+
+
+def offline_runs(protocol=None):
+    """{COMPONENT: (CampaignSetup, CampaignRun)} of the offline campaign (seed 0, the principal
+    hinges with the carried inertia as the graph's, issue 22) with ``protocol`` (None: the
+    shipped one)."""
+    from motoflex_ros.bench.offline_campaign import identify_components
+    from motoflex_ros.formats.component_file import load_components
+    from motoflex_ros.study.identified_variants import carried_inertias
+    components = load_components([COMPONENT])
+    return identify_components(components, protocol=protocol, seed=0,
+                               carried=carried_inertias(components))
+
+
+def offline_identification(protocol=None, runs=None):
+    """{COMPONENT: identification as JSON} of :func:`offline_runs` (or of ``runs``): what a
+    graph run with that protocol must give to 1e-12."""
+    runs = offline_runs(protocol) if runs is None else runs
+    return {n: to_jsonable(r.identification.to_dict()) for n, (_, r) in runs.items()}
 
 
 def _our_processes(marker):
@@ -249,7 +271,8 @@ def test_sigint_right_after_identification_leaves_a_failed_run(tmp_path):
     """The issue's case: SIGINT as soon as the identification node wrote its results (before
     issue 13: a complete identification.json, and `motoflex report` exited 0 on it)."""
     bag = tmp_path / "run"
-    proc = _campaign(tmp_path, "--out", str(bag), "--report", "none")
+    proc = _campaign(tmp_path, "--out", str(bag), "--report", "none", "--protocol",
+                     SHORT_PROTOCOL)   # the moment after identification: any protocol's
     try:
         deadline = time.monotonic() + 300
         while not (bag / ".identification.partial.json").exists():
