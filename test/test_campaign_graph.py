@@ -201,6 +201,29 @@ def _replay_reproduces(tmp_path, bag, live):
     assert _our_processes(str(tmp_path)) == []
 
 
+def test_short_protocol_runs_every_test_kind_with_few_samples():
+    """SHORT_PROTOCOL, which the graph-mechanics tests run, plans on each shipped component
+    every test kind of the shipped protocols (so every node path runs: static, both moments,
+    torsion, bending, a sweep of more than one step, the modal decay) with under a tenth of
+    the shipped protocol's samples."""
+    from motoflex_ros.bench.offline_campaign import setup_campaign
+    from motoflex_ros.formats.component_file import load_components
+    from motoflex_ros.study.identified_variants import carried_inertias
+    components = load_components(["frame", "front_assembly", "swingarm"])
+    carried = carried_inertias(components)
+    for component in components:
+        name = component.name
+        short, shipped = (setup_campaign(component, protocol, carried=carried[name]).plan.tests
+                          for protocol in (SHORT_PROTOCOL, None))
+        names = [t.name for t in short]
+        assert {"static", "moment_axial", "moment_normal", "torsion", "bending",
+                "decay"} <= set(names), (name, names)
+        assert sum(n.startswith("sweep_") for n in names) >= 2, (name, names)
+        assert {t.name for t in shipped} - {t.name for t in short} <= {
+            f"sweep_{i:02d}" for i in range(100)}, name   # no kind of test left out
+        assert 10 * sum(t.max_samples for t in short) < sum(t.max_samples for t in shipped)
+
+
 def _wait_for_recording(proc, bag, size=20000, timeout=120):
     """Wait until the running campaign's MCAP has grown past ``size`` bytes."""
     deadline = time.monotonic() + timeout
