@@ -389,12 +389,7 @@ def test_two_runs_in_one_domain(tmp_path):
     in identification) stops at once, naming the first run's node as a foreign publisher. The
     first run accepts nothing of it: it fails the same way if it saw the second run's
     publishers in time, or else ends with exactly the offline campaign's results."""
-    from test_campaign_graph import _assert_same, without_inputs
-
-    from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.formats.component_file import load_components
-    from motoflex_ros.formats.json_yaml import to_jsonable
-    from motoflex_ros.study.identified_variants import carried_inertias
+    from test_campaign_graph import _assert_same, offline_identification, without_inputs
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()
     first = Run(tmp_path / "a").running()
@@ -411,13 +406,8 @@ def test_two_runs_in_one_domain(tmp_path):
         assert "foreign publisher on " in err, err
         assert not (first.bag / "identification.json").exists()
     else:
-        components = load_components([COMPONENT])
-        carried = carried_inertias(components)
-        offline = {n: to_jsonable(r.identification.to_dict())
-                   for n, (_, r) in identify_components(components, seed=0,
-                                                        carried=carried).items()}
         recorded = json.loads((first.bag / "identification.json").read_text())
-        _assert_same(without_inputs(recorded), offline)
+        _assert_same(without_inputs(recorded), offline_identification())
     assert wait_gone(str(tmp_path), 5.0) == []
 
 
