@@ -1,12 +1,15 @@
 """A recorded campaign bag as ROS, Foxglove and rviz users read it (issue 16, points 2-4).
 
-One full campaign (the three components and the vehicle, ``--report none``) is recorded; the
-bag is then read with rosbags alone, no project code: its tf tree (/tf, /tf_static as
-tf2_msgs/msg/TFMessage) links every frame id used in the bag to one root, /vehicle/bodies holds
-one pose per body that the named tf frames reproduce, and the poses follow the road test: the
-main frame body's roll is /vehicle/joint_states' roll and the bodies above and below it move
-sideways by their height times the sine of the roll; each topic's QoS in metadata.yaml is what
-its publisher offered (the latched ones transient local, so a replay keeps them latched).
+One full campaign (the three components and the vehicle, ``--report none``) is recorded, on the
+short bench protocol (test/data/short_bench.yaml: every test kind, a few hundred samples per
+component; what is read here, the tf tree, the bodies, the QoS and the result topics, does not
+depend on the protocol's lengths); the bag is then read with rosbags alone, no project code:
+its tf tree (/tf, /tf_static as tf2_msgs/msg/TFMessage) links every frame id used in the bag to
+one root, /vehicle/bodies holds one pose per body that the named tf frames reproduce, and the
+poses follow the road test: the main frame body's roll is /vehicle/joint_states' roll and the
+bodies above and below it move sideways by their height times the sine of the roll; each
+topic's QoS in metadata.yaml is what its publisher offered (the latched ones transient local,
+so a replay keeps them latched).
 """
 import os
 import subprocess
@@ -17,6 +20,7 @@ import numpy as np
 import pytest
 import yaml
 from scipy.spatial.transform import Rotation
+from test_campaign_graph import SHORT_PROTOCOL
 
 
 @pytest.fixture(scope="module")
@@ -25,8 +29,8 @@ def bag(tmp_path_factory):
     out = tmp / "run"
     env = dict(os.environ, TMPDIR=str(tmp), OPENBLAS_NUM_THREADS="1")
     run = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "campaign", "--out",
-                          str(out), "--report", "none"], env=env, capture_output=True,
-                         text=True, timeout=900)
+                          str(out), "--report", "none", "--protocol", SHORT_PROTOCOL],
+                         env=env, capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, run.stderr
     return out
 

@@ -2,7 +2,9 @@
 
 One component (swingarm, the shortest campaign) keeps these tests to about a minute each.
 """
+import contextlib
 import html
+import io
 import json
 import os
 import re
@@ -20,6 +22,9 @@ from motoflex_ros.formats.json_yaml import to_jsonable  # noqa: E402
 from motoflex_ros.record import mcap_bag  # noqa: E402
 
 COMPONENT = "swingarm"
+# A short campaign (every test kind, a few hundred samples) for the graph tests whose point is
+# the graph's mechanics, not the paper's numbers (the file says why each number).
+SHORT_PROTOCOL = str(Path(__file__).resolve().parent / "data" / "short_bench.yaml")
 
 
 def _leaves(a, b, path=""):
@@ -76,6 +81,25 @@ def _campaign(tmp_path, *extra, **env_extra):
                              "--component", COMPONENT, *extra], env=env, text=True,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             preexec_fn=interruptible)
+
+
+def offline_runs(protocol=None):
+    """{COMPONENT: (CampaignSetup, CampaignRun)} of the offline campaign (seed 0, the principal
+    hinges with the carried inertia as the graph's, issue 22) with ``protocol`` (None: the
+    shipped one)."""
+    from motoflex_ros.bench.offline_campaign import identify_components
+    from motoflex_ros.formats.component_file import load_components
+    from motoflex_ros.study.identified_variants import carried_inertias
+    components = load_components([COMPONENT])
+    return identify_components(components, protocol=protocol, seed=0,
+                               carried=carried_inertias(components))
+
+
+def offline_identification(protocol=None, runs=None):
+    """{COMPONENT: identification as JSON} of :func:`offline_runs` (or of ``runs``): what a
+    graph run with that protocol must give to 1e-12."""
+    runs = offline_runs(protocol) if runs is None else runs
+    return {n: to_jsonable(r.identification.to_dict()) for n, (_, r) in runs.items()}
 
 
 def _our_processes(marker):
@@ -177,6 +201,29 @@ def _replay_reproduces(tmp_path, bag, live):
     assert _our_processes(str(tmp_path)) == []
 
 
+def test_short_protocol_runs_every_test_kind_with_few_samples():
+    """SHORT_PROTOCOL, which the graph-mechanics tests run, plans on each shipped component
+    every test kind of the shipped protocols (so every node path runs: static, both moments,
+    torsion, bending, a sweep of more than one step, the modal decay) with under a tenth of
+    the shipped protocol's samples."""
+    from motoflex_ros.bench.offline_campaign import setup_campaign
+    from motoflex_ros.formats.component_file import load_components
+    from motoflex_ros.study.identified_variants import carried_inertias
+    components = load_components(["frame", "front_assembly", "swingarm"])
+    carried = carried_inertias(components)
+    for component in components:
+        name = component.name
+        short, shipped = (setup_campaign(component, protocol, carried=carried[name]).plan.tests
+                          for protocol in (SHORT_PROTOCOL, None))
+        names = [t.name for t in short]
+        assert {"static", "moment_axial", "moment_normal", "torsion", "bending",
+                "decay"} <= set(names), (name, names)
+        assert sum(n.startswith("sweep_") for n in names) >= 2, (name, names)
+        assert {t.name for t in shipped} - {t.name for t in short} <= {
+            f"sweep_{i:02d}" for i in range(100)}, name   # no kind of test left out
+        assert 10 * sum(t.max_samples for t in short) < sum(t.max_samples for t in shipped)
+
+
 def _wait_for_recording(proc, bag, size=20000, timeout=120):
     """Wait until the running campaign's MCAP has grown past ``size`` bytes."""
     deadline = time.monotonic() + timeout
@@ -225,11 +272,19 @@ def test_campaign_fault_named_and_clean(tmp_path, victim):
                         else f"node '{victim}' died")
 
 
+def _cli_in_process(*argv):
+    """(exit code, stderr) of ``motoflex ARGV`` run in this process: for the refusals of a
+    failed run, where a CLI process of its own adds nothing but its imports (1.2 CPU-s)."""
+    from motoflex_ros.cli.main import main
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(list(argv))
+    return code, err.getvalue()
+
+
 def _report(bag):
     """``motoflex report BAG --no-compute`` (what refuses an incomplete run)."""
-    return subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "report", str(bag),
-                           "--no-compute", "--quiet"], capture_output=True, text=True,
-                          timeout=120)
+    return _cli_in_process("report", str(bag), "--no-compute", "--quiet")
 
 
 def _failed_and_refused(bag, reason):
@@ -239,8 +294,8 @@ def _failed_and_refused(bag, reason):
     assert status["status"] == "failed" and reason in status["reason"], status
     assert not (bag / "identification.json").exists()
     assert not (bag / ".identification.partial.json").exists()
-    report = _report(bag)
-    assert report.returncode == 2 and "--allow-incomplete" in report.stderr, report.stderr
+    code, err = _report(bag)
+    assert code == 2 and "--allow-incomplete" in err, err
     assert not (bag / "report.html").exists()
 
 
@@ -249,7 +304,8 @@ def test_sigint_right_after_identification_leaves_a_failed_run(tmp_path):
     """The issue's case: SIGINT as soon as the identification node wrote its results (before
     issue 13: a complete identification.json, and `motoflex report` exited 0 on it)."""
     bag = tmp_path / "run"
-    proc = _campaign(tmp_path, "--out", str(bag), "--report", "none")
+    proc = _campaign(tmp_path, "--out", str(bag), "--report", "none", "--protocol",
+                     SHORT_PROTOCOL)   # the moment after identification: any protocol's
     try:
         deadline = time.monotonic() + 300
         while not (bag / ".identification.partial.json").exists():
@@ -265,10 +321,8 @@ def test_sigint_right_after_identification_leaves_a_failed_run(tmp_path):
     assert proc.returncode != 0 and "interrupted" in err and "Traceback" not in err
     assert _our_processes(str(tmp_path)) == []
     _failed_and_refused(bag, "interrupted by SIGINT")
-    replay = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "replay", str(bag),
-                             "--identify", str(tmp_path / "again.json")], capture_output=True,
-                            text=True, timeout=120)
-    assert replay.returncode == 2 and "the run failed" in replay.stderr
+    code, err = _cli_in_process("replay", str(bag), "--identify", str(tmp_path / "again.json"))
+    assert code == 2 and "the run failed" in err, err
     assert not (tmp_path / "again.json").exists()
 
 
@@ -293,5 +347,5 @@ def test_killed_launcher_leaves_no_node(tmp_path):
     assert left == []
     assert mcap_bag.bag_info(bag).count(f"/bench/{COMPONENT}/load") > 0
     assert not (bag / "status.json").exists()   # killed before its status: incomplete
-    report = _report(bag)
-    assert report.returncode == 2 and "did not finish" in report.stderr, report.stderr
+    code, err = _report(bag)
+    assert code == 2 and "did not finish" in err, err

@@ -17,20 +17,20 @@ import pytest
 pytest.importorskip("rclpy")
 from test_campaign_graph import (  # noqa: E402
     COMPONENT,
+    SHORT_PROTOCOL,
     _assert_same,
     interruptible,
+    offline_identification,
     without_inputs,
 )
 
-from motoflex_ros.formats.json_yaml import to_jsonable  # noqa: E402
 from motoflex_ros.launcher.domain import DomainLock  # noqa: E402
 from motoflex_ros.record import mcap_bag  # noqa: E402
 
 
 def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
-    from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.formats.component_file import load_components
-    from motoflex_ros.study.identified_variants import carried_inertias
+    """On the short protocol (test/data/short_bench.yaml: every test kind, a few hundred
+    samples): what is shown is the namespacing, not the paper's numbers."""
     with DomainLock() as free:
         domain = free.domain_id
     # hold the id shared (as a namespaced run does) so that no root-namespace run takes it
@@ -40,14 +40,11 @@ def test_two_namespaced_rigs_in_one_domain_equal_solo_runs(tmp_path):
         runs = {ns: subprocess.Popen(
             [sys.executable, "-m", "motoflex_ros.cli.main", "campaign", "--component",
              COMPONENT, "--namespace", f"/{ns}", "--out", str(tmp_path / ns), "--report",
-             "none"], env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+             "none", "--protocol", SHORT_PROTOCOL], env=env, text=True,
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE,
             preexec_fn=interruptible) for ns in ("rig_a", "rig_b")}
         outputs = {ns: proc.communicate(timeout=900) for ns, proc in runs.items()}
-    components = load_components([COMPONENT])   # as the graph's (issue 22)
-    carried = carried_inertias(components)
-    offline = {n: to_jsonable(r.identification.to_dict())
-               for n, (_, r) in identify_components(components, seed=0,
-                                                    carried=carried).items()}
+    offline = offline_identification(SHORT_PROTOCOL)
     for ns, proc in runs.items():
         _, err = outputs[ns]
         assert proc.returncode == 0, err

@@ -2,9 +2,10 @@
 looks like a success.
 
 Faults: a foreign publisher on a bench topic, on /clock and on /identification/results; NaN,
-Inf, out-of-range and backwards-stamped bench messages; SIGINT and SIGTERM of each node and
-SIGTERM of the campaign (SIGKILL of each node, SIGINT and SIGKILL of the campaign are the
-``faults``-marked tests of test_campaign_graph.py); two runs in one ROS domain. Each case
+Inf, out-of-range and backwards-stamped bench messages; SIGINT or SIGTERM of each node (both
+of the load actuator; SIGNAL_PAIRS says why) and SIGTERM of the campaign (SIGKILL of each
+node, SIGINT and SIGKILL of the campaign are the ``faults``-marked tests of
+test_campaign_graph.py); two runs in one ROS domain. Each case
 checks: a non-zero exit within FAULT_S of the fault, a message naming what happened (no
 traceback), no process left, a bag that reads as it is (the recorder finished it), status.json
 "failed" with the reason, and no identification.json. The campaigns are the shortest (swingarm,
@@ -161,9 +162,6 @@ def assert_bag_readable(bag, started=True):
 
 # --- signals -------------------------------------------------------------------------------
 
-SIGNALS = (signal.SIGINT, signal.SIGTERM)
-
-
 def _expected_for_node(victim, signum):
     name = signal.Signals(signum).name
     if victim == "load_actuator":   # the pacer: its end must not pass for the run's end
@@ -171,14 +169,38 @@ def _expected_for_node(victim, signum):
     return f"stopped by {name}"
 
 
-@pytest.mark.parametrize("victim", NODES)
-def test_sigint_and_sigterm_to_node_fail_run(tmp_path, victim):
-    """Two campaigns at once: SIGINT to ``victim`` in one, SIGTERM in the other."""
-    runs = Run.together(tmp_path, len(SIGNALS))
-    for run, signum in zip(runs, SIGNALS):
+# SIGINT and SIGTERM take one code path in every node (nodes/node_main.py: one handler for
+# both notes the signal's name and ends the loop; no node installs a handler of its own), so
+# they differ only where the name is used: in the exit code 128 + signum of a node that ends
+# itself (ENDS_ITSELF: the load actuator here), and in the words of the log. The load actuator
+# gets both; every other node one of them (the two alternate), SIGKILL of each node being
+# test_campaign_graph.py's test_campaign_fault_named_and_clean. Two campaigns at once.
+SIGNAL_PAIRS = {
+    "load_actuator": (("load_actuator", signal.SIGINT), ("load_actuator", signal.SIGTERM)),
+    "simulator-and-sensor": (("component_simulator", signal.SIGTERM),
+                             ("displacement_sensor", signal.SIGINT)),
+    "identification-and-recorder": (("identification", signal.SIGTERM),
+                                    ("recorder", signal.SIGINT)),
+}
+
+
+def test_signal_pairs_cover_every_node_and_both_signals():
+    """Every node gets a clean signal in some campaign; the load actuator both of them."""
+    cases = [case for pair in SIGNAL_PAIRS.values() for case in pair]
+    assert {victim for victim, _ in cases} == set(NODES)
+    assert {s for v, s in cases if v == "load_actuator"} == {signal.SIGINT, signal.SIGTERM}
+    assert {s for _, s in cases} == {signal.SIGINT, signal.SIGTERM}
+
+
+@pytest.mark.parametrize("pair", SIGNAL_PAIRS.values(), ids=SIGNAL_PAIRS.keys())
+def test_sigint_and_sigterm_to_node_fail_run(tmp_path, pair):
+    """Two campaigns at once, each with one node stopped by SIGINT or SIGTERM (see
+    SIGNAL_PAIRS for why not both signals to every node)."""
+    runs = Run.together(tmp_path, len(pair))
+    for run, (victim, signum) in zip(runs, pair):
         run.fault()
         os.kill(node_pid(run.tmp_path, victim), signum)
-    for run, signum in zip(runs, SIGNALS):
+    for run, (victim, signum) in zip(runs, pair):
         err = run.assert_failed_cleanly(_expected_for_node(victim, signum))
         assert f"node '{victim}'" in err
 
@@ -367,12 +389,7 @@ def test_two_runs_in_one_domain(tmp_path):
     in identification) stops at once, naming the first run's node as a foreign publisher. The
     first run accepts nothing of it: it fails the same way if it saw the second run's
     publishers in time, or else ends with exactly the offline campaign's results."""
-    from test_campaign_graph import _assert_same, without_inputs
-
-    from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.formats.component_file import load_components
-    from motoflex_ros.formats.json_yaml import to_jsonable
-    from motoflex_ros.study.identified_variants import carried_inertias
+    from test_campaign_graph import _assert_same, offline_identification, without_inputs
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()
     first = Run(tmp_path / "a").running()
@@ -389,13 +406,8 @@ def test_two_runs_in_one_domain(tmp_path):
         assert "foreign publisher on " in err, err
         assert not (first.bag / "identification.json").exists()
     else:
-        components = load_components([COMPONENT])
-        carried = carried_inertias(components)
-        offline = {n: to_jsonable(r.identification.to_dict())
-                   for n, (_, r) in identify_components(components, seed=0,
-                                                        carried=carried).items()}
         recorded = json.loads((first.bag / "identification.json").read_text())
-        _assert_same(without_inputs(recorded), offline)
+        _assert_same(without_inputs(recorded), offline_identification())
     assert wait_gone(str(tmp_path), 5.0) == []
 
 

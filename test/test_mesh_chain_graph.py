@@ -5,6 +5,7 @@ import subprocess
 import sys
 
 import pytest
+from test_campaign_graph import SHORT_PROTOCOL
 
 from motoflex_ros.bench.offline_campaign import run_campaign, setup_campaign
 from motoflex_ros.formats.component_file import load_component
@@ -29,12 +30,13 @@ def test_campaign_graph_runs_a_mesh_file_and_draws_it(bracket, tmp_path):
     """``motoflex campaign --components FILE``: the mesh component's bench topics go by its name
     (/bench/bracket/...), the graph identifies what ``identify`` does offline (same samples, same
     numbers), the run folder names the file (component_files.json) and the rerun recording draws
-    the mesh on the bench."""
+    the mesh on the bench. On the short protocol (test/data/short_bench.yaml: every test kind,
+    411 samples instead of 5,270): the mesh file's way through the graph is the point."""
     from motoflex_ros.record.rerun_readback import entity_rows
     bag = tmp_path / "run"
     out = json.loads(run_cli("campaign", "--component", bracket, "--report", "quick",
-                             "--out", str(bag), "--json"))
-    offline = run_campaign(setup_campaign(load_component(bracket)),
+                             "--out", str(bag), "--json", "--protocol", SHORT_PROTOCOL))
+    offline = run_campaign(setup_campaign(load_component(bracket), SHORT_PROTOCOL),
                            seed=0).identification.to_dict()
     assert out["bracket"]["static"]["k"] == pytest.approx(offline["static"]["k"], rel=1e-9)
     assert out["bracket"]["k_t"] == pytest.approx(offline["k_t"], rel=1e-9)

@@ -8,6 +8,7 @@ import sys
 import time
 
 import pytest
+from test_campaign_graph import SHORT_PROTOCOL
 from test_ros_network import (
     RANGE,
     _children,
@@ -79,15 +80,17 @@ def test_node_refuses_unknown_dds_mode(tmp_path):
 def test_campaign_sockets_on_loopback_and_explicit_domain_honoured(tmp_path):
     """A whole campaign (swingarm, --json) on an explicit ROS_DOMAIN_ID: every socket of every
     process of the run is bound to loopback, every node runs on that domain, the id is
-    printed on stderr at the start and stdout stays clean JSON."""
+    printed on stderr at the start and stdout stays clean JSON. On the short protocol
+    (test/data/short_bench.yaml): the sockets are the point, not the numbers."""
     pytest.importorskip("rclpy")
     with DomainLock() as free:
         domain = free.domain_id
     bag = tmp_path / "run"
     proc = subprocess.Popen([sys.executable, "-m", "motoflex_ros.cli.main", "campaign",
                              "--component", "swingarm", "--out", str(bag), "--report", "none",
-                             "--json"], env=_node_env(domain, tmp_path, TMPDIR=str(tmp_path)),
-                            text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                             "--json", "--protocol", SHORT_PROTOCOL],
+                            env=_node_env(domain, tmp_path, TMPDIR=str(tmp_path)), text=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     seen, node_envs = {}, {}
     try:
         deadline = time.monotonic() + 300

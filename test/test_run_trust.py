@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 from processes import processes_naming
-from test_campaign_graph import _wait_for_recording
+from test_campaign_graph import SHORT_PROTOCOL, _wait_for_recording
 
 pytest.importorskip("rclpy")
 from motoflex_ros import input_pins  # noqa: E402
@@ -85,13 +85,15 @@ def _campaign(tmp_path, *args, **extra_env):
 def test_component_file_edited_mid_run_fails_the_campaign_naming_it(tmp_path):
     """Issue 23, point 2: the component's YAML is edited while the campaign runs. The run
     fails naming the file (its nodes read it before the edit; the launcher's end check sees
-    the change), status.json 'failed', no identification.json, no node left."""
+    the change), status.json 'failed', no identification.json, no node left. On the short
+    protocol (test/data/short_bench.yaml): the launcher checks the pins after every node
+    stopped, so the edit, made as the bag passes 20 kB, still comes in the run."""
     component = tmp_path / "swingarm_copy.yaml"
     original = config_path("components", "swingarm").read_text()
     component.write_text(original)
     bag = tmp_path / "run"
     proc = _campaign(tmp_path, "--component", str(component), "--out", str(bag),
-                     "--report", "none")
+                     "--report", "none", "--protocol", SHORT_PROTOCOL)
     try:
         _wait_for_recording(proc, bag)
     except BaseException:

@@ -123,33 +123,35 @@ def test_plain_path_trust_check_reads_the_topics_publishers_in_the_graph(context
 
 
 @pytest.mark.ros
-@pytest.mark.slow   # a campaign of one component through the graph: about 25-30 s
+@pytest.mark.slow   # a short campaign of one component through the graph: about 15 s
 def test_campaign_on_the_plain_path_identifies_as_the_ctypes_path(tmp_path):
     """``MOTOFLEX_TRANSPORT=rclpy``: the swingarm's campaign identifies exactly what the
     offline identification gives, which the ctypes graph gives to 1e-12
     (test_campaign_graph.py), and the bag holds every sample (a recorder that fell behind
-    would lose its tail unnoticed)."""
-    from test_campaign_graph import COMPONENT, _assert_same, _campaign, without_inputs
+    would lose its tail unnoticed). On the short protocol (test/data/short_bench.yaml: every
+    test kind, so every message type, a few hundred samples): the point is the transport."""
+    from test_campaign_graph import (
+        COMPONENT,
+        SHORT_PROTOCOL,
+        _assert_same,
+        _campaign,
+        offline_identification,
+        offline_runs,
+        without_inputs,
+    )
 
-    from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.formats.component_file import load_components
-    from motoflex_ros.formats.json_yaml import to_jsonable
     from motoflex_ros.record import mcap_bag
-    from motoflex_ros.study.identified_variants import carried_inertias
     bag = tmp_path / "run"
     proc = _campaign(tmp_path, "--out", str(bag), "--report", "none",
-                     MOTOFLEX_TRANSPORT="rclpy")
+                     "--protocol", SHORT_PROTOCOL, MOTOFLEX_TRANSPORT="rclpy")
     out, err = proc.communicate(timeout=600)
     assert proc.returncode == 0, err
     assert "ROS transport rclpy" in err
     live = without_inputs(json.loads((bag / "identification.json").read_text()))
-    components = load_components([COMPONENT])
-    carried = carried_inertias(components)
-    runs = identify_components(components, seed=0, carried=carried)
-    _assert_same(live, {n: to_jsonable(r.identification.to_dict())
-                        for n, (_, r) in runs.items()})
+    runs = offline_runs(SHORT_PROTOCOL)
+    _assert_same(live, offline_identification(runs=runs))
     counts = {t.name: t.count for t in mcap_bag.bag_info(bag).topics}
     phases = counts[f"/bench/{COMPONENT}/phase"]   # every sample and the end marker
-    assert phases > 1000
+    assert phases == runs[COMPONENT][1].n_samples + 1   # the offline campaign's samples
     assert counts[f"/bench/{COMPONENT}/markers/measured"] == phases
     assert counts[f"/bench/{COMPONENT}/load"] == counts[f"/bench/{COMPONENT}/pose"] == phases - 1
