@@ -61,11 +61,16 @@ def served_run(tmp_path):
                              "--web"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True)
     try:
-        yield _address(view)
+        address = _address(view)
+        # the rerun binary reads the recording from its stdin: its command line names no file
+        viewer = Path(f"/proc/{view.pid}/task/{view.pid}/children").read_text().split()
+        assert viewer
+        yield address
     finally:
         view.terminate()
         view.wait(timeout=30)
     assert not processes_naming(bag)   # the viewer went with it
+    assert not [pid for pid in viewer if Path(f"/proc/{pid}").exists()]
 
 
 @pytest.mark.slow
