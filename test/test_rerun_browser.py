@@ -28,6 +28,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 from headless_chromium import HeadlessChromium, ensure_chromium
 from PIL import Image
+from playwright.sync_api import Error as PlaywrightError
 
 from motoflex_ros.record.rerun_blueprint import default_tabs, tab_views, viewer_panels
 from motoflex_ros.record.rerun_readback import entity_rows
@@ -122,12 +123,24 @@ def _blank(png):
     return drawn(png) and not shows_data(png) and not shows_data(png, text=True)
 
 
+def _shot(browser):
+    """A screenshot of VIEW_BOX, or None while the page has drawn no frame yet (chromium then
+    answers "Unable to capture screenshot" for a clip inside the viewport)."""
+    try:
+        return browser.screenshot(CLIP, beyond_viewport=False)
+    except PlaywrightError as error:
+        if "Unable to capture screenshot" not in str(error):
+            raise
+        return None
+
+
 def _poll(browser, limit_s, done):
     deadline = time.monotonic() + limit_s
-    png = browser.screenshot(CLIP, beyond_viewport=False)
-    while not done(png) and time.monotonic() < deadline:
+    png = _shot(browser)
+    while (png is None or not done(png)) and time.monotonic() < deadline:
         time.sleep(0.5)
-        png = browser.screenshot(CLIP, beyond_viewport=False)
+        png = _shot(browser)
+    assert png is not None, f"no screenshot within {limit_s} s"
     return png
 
 
