@@ -10,6 +10,7 @@ import json
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from processes import processes_naming
@@ -46,15 +47,20 @@ def _serve_and_stop(folder, env):
     view = subprocess.Popen([sys.executable, "-m", "motoflex_ros.cli.main", "view", str(folder),
                              "--web"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env=env)
+    viewer = []
     try:
         line = view.stdout.readline()
         assert "http://127.0.0.1:" in line, view.stderr.read()[-2000:]
+        # the rerun binary reads the recording from its stdin: its command line names no file
+        viewer = Path(f"/proc/{view.pid}/task/{view.pid}/children").read_text().split()
+        assert viewer
     finally:
         view.terminate()   # at once, while view may still be printing its second line
         view.wait(timeout=60)
     # its viewer went with it (a SIGTERM between the address and the try/finally once left the
     # rerun binary running, orphaned, at half a core, in every suite run)
     assert not processes_naming(folder)
+    assert not [pid for pid in viewer if Path(f"/proc/{pid}").exists()]
 
 
 
