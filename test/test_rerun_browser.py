@@ -1,8 +1,9 @@
 """Browser test: every view of every tab of the example run's recording shows data in the rerun
 web viewer, on the timeline the viewer opens on (issue 24, point 6).
 
-A copy of bags/example is converted (`motoflex rerun`) and served (`motoflex view --web`); headless
-chromium, driven by Playwright (test/headless_chromium.py), opens it. The default layout's
+A copy of bags/example is converted (`motoflex rerun`, once per test run: test/example_runs.py)
+and served (`motoflex view --web`); headless chromium, driven by Playwright
+(test/headless_chromium.py), opens it. The default layout's
 views are then shown one at a time, each alone on the screen with the default time panel
 (``sim_time``), by sending the viewer a blueprint over the recording's gRPC proxy, and
 screenshotted: the view's area must hold at least MIN_DATA_PIXELS coloured pixels of data (a
@@ -15,7 +16,6 @@ import functools
 import io
 import os
 import re
-import shutil
 import subprocess
 import sys
 import time
@@ -26,6 +26,7 @@ import numpy as np
 import pytest
 import rerun as rr
 import rerun.blueprint as rrb
+from example_runs import example_recording
 from headless_chromium import HeadlessChromium, ensure_chromium
 from PIL import Image
 from playwright.sync_api import Error as PlaywrightError
@@ -33,7 +34,6 @@ from playwright.sync_api import Error as PlaywrightError
 from motoflex_ros.record.rerun_blueprint import default_tabs, tab_views, viewer_panels
 from motoflex_ros.record.rerun_readback import entity_rows
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 WINDOW = (800, 600)
 """The browser's window [CSS px]: chromium rasterizes in software, its CPU grows with the pixels
 (1280x800 took 1.3-2 times the chromium CPU of 800x500 on the viewer's redrawing views)."""
@@ -80,14 +80,8 @@ def shows_data(png, text=False):
 
 
 @pytest.fixture(scope="module")
-def served(tmp_path_factory):
-    if not (EXAMPLE / "metadata.yaml").is_file():
-        pytest.skip("bags/example is not in this checkout")
-    folder = tmp_path_factory.mktemp("runs") / "example"
-    shutil.copytree(EXAMPLE, folder, ignore=shutil.ignore_patterns("*.rrd", "report.html"))
-    converted = subprocess.run([sys.executable, "-m", "motoflex_ros.cli.main", "rerun",
-                                str(folder)], capture_output=True, text=True, timeout=900)
-    assert converted.returncode == 0, converted.stderr[-2000:]
+def served():
+    folder = example_recording()   # `motoflex rerun` of a copy of bags/example, shared
     rrd = folder / "example.rrd"
     paths = set(entity_rows(rrd)) | set(entity_rows(rrd, static=True))
     view = subprocess.Popen([sys.executable, "-m", "motoflex_ros.cli.main", "view", str(folder),
