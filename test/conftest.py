@@ -10,18 +10,14 @@ Markers (registered in pyproject.toml) are given here per file, not one by one i
 - ``fast``: every test that is neither ``ros`` nor ``slow``: ``./test.sh -m fast`` is the
   everyday tier (docs/testing.md).
 
-Groups (``./test.sh`` runs ``-n 2 --dist loadgroup``): the ROS files in two groups, each run
-one file after the other on one worker, in file order: ``ros-faults`` (FAULT_GROUP_FILES: the
-files that inject faults into running campaigns and hold the run's reaction to them, so that no
-two fault tests ever run at once) and ``ros-graph`` (the other ROS files); the two groups start
-together, one on each worker (each test has a ROS domain of its own; a fault test may meet a
-graph test of the other group, as it meets its own second campaign). (With one group for all
-ROS files, the other worker ran out of work while the graph tests still ran one after the
-other: docs/testing.md.) Every other file is a group of its own, so a module fixture (the
-accuracy study's verb run, the Kane oracle) is computed once. The items are put in order ROS
-groups first, then files holding slow tests, then the rest (the longest units start first, the
-short ones fill in at the end). With ``-n 0`` (or plain ``pytest``) everything runs in one
-process and the groups do nothing.
+Groups (``./test.sh`` runs ``-n 2 --dist loadgroup``): every ROS file in one group,
+``ros-graph``, so the graph tests run one after the other on one worker, in file order (the
+fault tests, which hold a run's reaction time, never meet a second graph; each test also has
+a ROS domain of its own); every other file is a group of its own, so a module fixture (the
+accuracy study's verb run, the Kane oracle) is computed once. The items are put in order
+ROS group first, then files holding slow tests, then the rest (the longest units start
+first, the short ones fill in at the end). With ``-n 0`` (or plain ``pytest``) everything runs
+in one process and the groups do nothing.
 
 The groups are ``xdist_group`` marks, and one public scheduler hook puts them into effect:
 xdist 3.8 suffixes the group to ``item._nodeid``, which pytest 9.2 no longer reads (a node's
@@ -45,10 +41,8 @@ import tempfile
 import pytest
 
 ROS_GROUP = "ros-graph"
-FAULT_GROUP = "ros-faults"
 
-# Files whose every test starts ROS 2 node processes (marked ros; grouped in ROS_GROUP, or in
-# FAULT_GROUP for FAULT_GROUP_FILES).
+# Files whose every test starts ROS 2 node processes (marked ros, grouped in ROS_GROUP).
 ROS_FILES = {
     "test_bad_inputs_nodes.py", "test_campaign_bag.py", "test_campaign_graph.py",
     "test_campaign_launch_run.py", "test_campaign_namespaces.py", "test_docs_ros.py",
@@ -86,9 +80,6 @@ SLOW_TESTS = {
 }
 # The fault injection into running campaigns (issue 13): ./test.sh -m faults runs it alone.
 FAULT_FILES = {"test_faults.py"}
-# The ROS files holding fault injection into running campaigns (the ``faults``-marked tests of
-# test_campaign_graph.py too): the group FAULT_GROUP, one test at a time.
-FAULT_GROUP_FILES = {"test_faults.py", "test_campaign_graph.py"}
 
 for _variable, _prefix in (("MOTOFLEX_CACHE_DIR", "motoflex-cache-"),
                            ("MOTOFLEX_TEST_SHARED", "motoflex-test-shared-")):
@@ -100,8 +91,7 @@ for _variable, _prefix in (("MOTOFLEX_CACHE_DIR", "motoflex-cache-"),
 
 def file_group(path):
     """The xdist group of a test file (its path relative to the rootdir, ``/``-separated)."""
-    name = path.rsplit("/", 1)[-1]
-    return FAULT_GROUP if name in FAULT_GROUP_FILES else ROS_GROUP if name in ROS_FILES else path
+    return ROS_GROUP if path.rsplit("/", 1)[-1] in ROS_FILES else path
 
 
 def grouped_nodeid(nodeid):
@@ -136,7 +126,7 @@ def _file_marks(item):
 
 def _order(item, slow_files):
     path = item.nodeid.split("::", 1)[0]
-    return 0 if file_group(path) in (ROS_GROUP, FAULT_GROUP) else 1 if path in slow_files else 2
+    return 0 if file_group(path) == ROS_GROUP else 1 if path in slow_files else 2
 
 
 @pytest.hookimpl(tryfirst=True)

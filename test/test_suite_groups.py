@@ -2,9 +2,8 @@
 
 The scheduler is driven through xdist's public scheduler protocol (add_node,
 add_node_collection, schedule, mark_test_complete) with stand-in workers that record what they
-are sent: each of the two ROS groups goes to one worker, in its order (the fault group and the
-other graph tests on different workers, each as its worker's first unit), and each other file
-whole to one worker. No worker process is started.
+are sent: the ROS files' tests go to one worker, in their order, and each other file whole to
+one worker. No worker process is started.
 """
 from pathlib import Path
 from types import SimpleNamespace
@@ -12,8 +11,6 @@ from types import SimpleNamespace
 import pytest
 from conftest import (
     FAULT_FILES,
-    FAULT_GROUP,
-    FAULT_GROUP_FILES,
     ROS_FILES,
     ROS_GROUP,
     SLOW_FILES,
@@ -70,24 +67,19 @@ def _run(collection):
     return {w.gateway.id: [collection[i] for batch in w.sent for i in batch] for w in workers}
 
 
-def test_ros_groups_run_each_on_one_worker_in_order_and_each_file_whole():
+def test_ros_files_run_on_one_worker_in_order_and_each_file_whole():
     runs = _run(COLLECTION)
     assert sorted(nodeid for run in runs.values() for nodeid in run) == sorted(COLLECTION)
-    holders = []
-    for files in (FAULT_GROUP_FILES, ROS_FILES - FAULT_GROUP_FILES):
-        ros = [n for n in COLLECTION if n.split("::")[0].rsplit("/", 1)[1] in files]
-        holder = [name for name, run in runs.items() if ros[0] in run]
-        assert len(holder) == 1 and [n for n in runs[holder[0]] if n in ros] == ros
-        assert runs[holder[0]][:len(ros)] == ros     # the first unit of its worker
-        holders += holder
-    assert sorted(holders) == ["gw0", "gw1"]   # the two ROS groups start side by side
+    ros = [n for n in COLLECTION if n.split("::")[0].rsplit("/", 1)[1] in ROS_FILES]
+    holder = [run for run in runs.values() if ros[0] in run]
+    assert len(holder) == 1 and [n for n in holder[0] if n in ros] == ros
+    assert holder[0][:len(ros)] == ros     # the first unit of its worker
     for name in ("test_lumped.py", "test_cli.py"):
         assert sum(any(name in n for n in run) for run in runs.values()) == 1, (name, runs)
 
 
 def test_group_suffix_as_loadgroup_reads_it():
-    assert grouped_nodeid("test/test_faults.py::t") == f"test/test_faults.py::t@{FAULT_GROUP}"
-    assert grouped_nodeid("test/test_ros_nodes.py::t") == f"test/test_ros_nodes.py::t@{ROS_GROUP}"
+    assert grouped_nodeid("test/test_faults.py::t") == f"test/test_faults.py::t@{ROS_GROUP}"
     assert grouped_nodeid("test/test_cli.py::t[a@b]") == \
         "test/test_cli.py::t[a@b]@test/test_cli.py"
     assert grouped_nodeid("test/test_cli.py::t@mine") == "test/test_cli.py::t@mine"   # kept
