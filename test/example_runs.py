@@ -15,48 +15,45 @@ from pathlib import Path
 
 import pytest
 from hostile import run_motoflex
+from report_html import EXAMPLE, example_report
 
-__all__ = ["EXAMPLE", "SHARED_ENV", "example_recording", "example_reported"]
+__all__ = ["SHARED_ENV", "example_recording", "example_reported"]
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "bags" / "example"
 SHARED_ENV = "MOTOFLEX_TEST_SHARED"
 
 
 def _made_once(name, make):
-    """The folder ``<shared>/<name>/example``: a copy of bags/example (without its recording
-    and report) on which ``make(folder)`` ran, made by the first caller of this test run."""
+    """The folder ``<shared>/<name>/example`` that ``make(<shared>/<name>)`` made (a copy of
+    bags/example and its product), made by the first caller of this test run."""
     if not (EXAMPLE / "metadata.yaml").is_file():
         pytest.skip("bags/example is not in this checkout")
     shared = Path(os.environ[SHARED_ENV])
     done = shared / f"{name}.done"
-    folder = shared / name / "example"
+    parent = shared / name
     with open(shared / f"{name}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)   # released when the file closes
         if not done.exists():
-            shutil.rmtree(folder.parent, ignore_errors=True)   # a failed earlier attempt
-            shutil.copytree(EXAMPLE, folder,
-                            ignore=shutil.ignore_patterns("*.rrd", "report.html"))
-            make(folder)
+            shutil.rmtree(parent, ignore_errors=True)   # a failed earlier attempt
+            parent.mkdir()
+            make(parent)
             done.touch()
-    return folder
+    return parent / "example"
 
 
-def _convert(folder):
+def _converted(parent):
+    """A copy of bags/example in ``parent`` (without its recording and report), converted."""
+    folder = parent / "example"
+    shutil.copytree(EXAMPLE, folder, ignore=shutil.ignore_patterns("*.rrd", "report.html"))
     result = run_motoflex(["rerun", folder])
-    assert result.returncode == 0, result.stderr[-2000:]
-
-
-def _report(folder):
-    result = run_motoflex(["report", folder, "--no-compute", "--quiet"])
     assert result.returncode == 0, result.stderr[-2000:]
 
 
 def example_recording():
     """The example run's folder holding ``example.rrd`` as ``motoflex rerun`` writes it."""
-    return _made_once("recording", _convert)
+    return _made_once("recording", _converted)
 
 
 def example_reported():
     """The example run's folder holding ``report.html`` as ``motoflex report --no-compute``
-    writes it."""
-    return _made_once("report", _report)
+    writes it (:func:`report_html.example_report`)."""
+    return _made_once("report", example_report)

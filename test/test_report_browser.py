@@ -16,9 +16,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from example_runs import example_reported
 from headless_chromium import HeadlessChromium, ensure_chromium
 from PIL import Image
-from report_html import example_report
 
 MIN_INK = 0.01
 """Least share of a figure's pixels that are not page white (a blank plot region has 0)."""
@@ -46,8 +46,8 @@ def ink(png):
 
 
 @pytest.fixture(scope="module")
-def report(tmp_path_factory):
-    return example_report(tmp_path_factory.mktemp("runs"))
+def report():
+    return example_reported()
 
 
 @pytest.mark.slow
