@@ -2,9 +2,7 @@
 
 One component (swingarm, the shortest campaign) keeps these tests to about a minute each.
 """
-import contextlib
 import html
-import io
 import json
 import os
 import re
@@ -15,6 +13,7 @@ import time
 from pathlib import Path
 
 import pytest
+from hostile import run_motoflex
 from processes import processes_naming
 
 pytest.importorskip("rclpy")
@@ -272,19 +271,9 @@ def test_campaign_fault_named_and_clean(tmp_path, victim):
                         else f"node '{victim}' died")
 
 
-def _cli_in_process(*argv):
-    """(exit code, stderr) of ``motoflex ARGV`` run in this process: for the refusals of a
-    failed run, where a CLI process of its own adds nothing but its imports (1.2 CPU-s)."""
-    from motoflex_ros.cli.main import main
-    err = io.StringIO()
-    with contextlib.redirect_stderr(err):
-        code = main(list(argv))
-    return code, err.getvalue()
-
-
 def _report(bag):
     """``motoflex report BAG --no-compute`` (what refuses an incomplete run)."""
-    return _cli_in_process("report", str(bag), "--no-compute", "--quiet")
+    return run_motoflex(["report", bag, "--no-compute", "--quiet"])   # a refusal: no child
 
 
 def _failed_and_refused(bag, reason):
@@ -294,8 +283,8 @@ def _failed_and_refused(bag, reason):
     assert status["status"] == "failed" and reason in status["reason"], status
     assert not (bag / "identification.json").exists()
     assert not (bag / ".identification.partial.json").exists()
-    code, err = _report(bag)
-    assert code == 2 and "--allow-incomplete" in err, err
+    report = _report(bag)
+    assert report.returncode == 2 and "--allow-incomplete" in report.stderr, report.stderr
     assert not (bag / "report.html").exists()
 
 
@@ -321,8 +310,8 @@ def test_sigint_right_after_identification_leaves_a_failed_run(tmp_path):
     assert proc.returncode != 0 and "interrupted" in err and "Traceback" not in err
     assert _our_processes(str(tmp_path)) == []
     _failed_and_refused(bag, "interrupted by SIGINT")
-    code, err = _cli_in_process("replay", str(bag), "--identify", str(tmp_path / "again.json"))
-    assert code == 2 and "the run failed" in err, err
+    replay = run_motoflex(["replay", bag, "--identify", tmp_path / "again.json"])  # refused
+    assert replay.returncode == 2 and "the run failed" in replay.stderr, replay.stderr
     assert not (tmp_path / "again.json").exists()
 
 
@@ -347,5 +336,5 @@ def test_killed_launcher_leaves_no_node(tmp_path):
     assert left == []
     assert mcap_bag.bag_info(bag).count(f"/bench/{COMPONENT}/load") > 0
     assert not (bag / "status.json").exists()   # killed before its status: incomplete
-    code, err = _report(bag)
-    assert code == 2 and "did not finish" in err, err
+    report = _report(bag)
+    assert report.returncode == 2 and "did not finish" in report.stderr, report.stderr
