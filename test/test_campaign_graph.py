@@ -107,10 +107,7 @@ def _our_processes(marker):
 
 
 def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
-    from motoflex_ros.bench.offline_campaign import identify_components
-    from motoflex_ros.formats.component_file import load_components
     from motoflex_ros.nodes.cdr import wrench_vector_from_cdr
-    from motoflex_ros.study.identified_variants import carried_inertias
     bag = tmp_path / "run"
     proc = _campaign(tmp_path, "--out", str(bag), "--report", "quick")
     out, err = proc.communicate(timeout=600)
@@ -136,10 +133,8 @@ def test_campaign_graph_equals_offline_and_replay_roundtrip(tmp_path):
     live = without_inputs(recorded)
     assert json.loads((bag / "status.json").read_text())["status"] == "complete"
     assert not (bag / ".identification.partial.json").exists()
-    components = load_components([COMPONENT])
-    carried = carried_inertias(components)
-    runs = identify_components(components, seed=0, carried=carried)
-    offline = {n: to_jsonable(r.identification.to_dict()) for n, (_, r) in runs.items()}
+    runs = offline_runs()
+    offline = offline_identification(runs=runs)
     _assert_same(live, offline)
     # issue 22: the moment tests ran through the graph (WrenchStamped torque) and the principal
     # hinges are those of ``motoflex identify`` to 1e-9
